@@ -1,0 +1,67 @@
+"""Rigid-body kinematics in the plane: body state, wrench, and world-frame element motion.
+
+Frame: x horizontal (forward), z vertical (up). theta and omega are counter-clockwise
+(rotating +x towards +z), so a wheel rolling forward in +x has omega < 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from intrusim._checks import finite
+from intrusim.geometry import SurfaceElements
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """Position (m), orientation (rad), velocity (m/s) and angular velocity (rad/s) of a body."""
+
+    x: float = 0.0
+    z: float = 0.0
+    theta: float = 0.0
+    vx: float = 0.0
+    vz: float = 0.0
+    omega: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("x", "z", "theta", "vx", "vz", "omega"):
+            object.__setattr__(self, name, finite(name, getattr(self, name)))
+
+    def mirrored(self) -> "BodyState":
+        """The mirror image under x -> -x."""
+        return BodyState(-self.x, self.z, -self.theta, -self.vx, self.vz, -self.omega)
+
+
+@dataclass(frozen=True)
+class Wrench:
+    """Force (N) and moment about the body reference point (N m, counter-clockwise) on a body."""
+
+    fx: float
+    fz: float
+    moment: float
+
+    def as_array(self) -> np.ndarray:
+        return np.array([self.fx, self.fz, self.moment])
+
+
+@dataclass(frozen=True)
+class ElementMotion:
+    """World-frame element data for one body state (arrays of length N)."""
+
+    offset: np.ndarray  # (N, 2) midpoint relative to the body reference point, m
+    position: np.ndarray  # (N, 2) m
+    normal: np.ndarray  # (N, 2)
+    velocity: np.ndarray  # (N, 2) m/s
+
+
+def element_motion(elements: SurfaceElements, state: BodyState) -> ElementMotion:
+    """Rotate and translate body-frame elements; rigid velocity v = v_cm + omega x r."""
+    c, s = np.cos(state.theta), np.sin(state.theta)
+    rot = np.array([[c, -s], [s, c]])
+    offset = elements.midpoint @ rot.T
+    normal = elements.normal @ rot.T
+    position = offset + np.array([state.x, state.z])
+    velocity = np.column_stack([state.vx - state.omega * offset[:, 1], state.vz + state.omega * offset[:, 0]])
+    return ElementMotion(offset, position, normal, velocity)

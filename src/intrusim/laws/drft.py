@@ -1,0 +1,137 @@
+"""Dynamic RFT (paper Eq. 4): the inertial and structural corrections to quasistatic RFT.
+
+    t = alpha(beta, gamma) H(-z~) |z~|  -  n lambda rho v_n^2,      z~ = z + dh
+
+* dynamic inertial correction: -n lambda rho v_n^2 on leading elements (n . v > 0);
+* dynamic structural correction: the free surface seen by an element is lowered by dh.
+  For a driven wheel (paper, Fig 5C) dh = r psi(r omega^2 / g) with psi the identity, on the
+  elements in the REAR half of the wheel-sand contact arc (split by the angle subtended at the
+  wheel centre); dh = 0 in front.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+
+from intrusim._checks import finite, non_negative, positive
+from intrusim.params import GRAVITY
+
+
+def inertial_traction(normal: np.ndarray, velocity: np.ndarray, rho: float, lam: float) -> np.ndarray:
+    """Dynamic inertial correction -n lambda rho v_n^2 (Eq. 4), N/m^2, zero on trailing elements.
+
+    Parameters
+    ----------
+    normal : (N, 2) outward unit normals.
+    velocity : (N, 2) element velocities, m/s.
+    rho : media density, kg/m^3 (the paper uses rho_c = 638 for poppy seeds).
+    lam : O(1) fitting constant lambda.
+    """
+    rho = non_negative("rho", rho)
+    lam = non_negative("lambda", lam)
+    n = np.asarray(normal, float)
+    vn = np.einsum("ij,ij->i", n, np.asarray(velocity, float))
+    mag = np.where(vn > 0.0, lam * rho * vn * vn, 0.0)
+    return -n * mag[:, None]
+
+
+def identity_psi(x: float) -> float:
+    """The paper's free-surface law psi(x) = x (Fig 5C)."""
+    return x
+
+
+def structural_depth_shift(
+    radius: float, omega: float, gravity: float = GRAVITY, psi: Callable[[float], float] = identity_psi
+) -> float:
+    """Rear free-surface drop dh = r psi(r omega^2 / g) of a driven wheel (Fig 5C), m.
+
+    Parameters
+    ----------
+    radius : wheel radius r, m (the paper's nominal radius; 0.106 m for the Table S1 wheel).
+    omega : angular velocity, rad/s (its sign does not matter).
+    gravity : g, m/s^2.
+    psi : the dimensionless free-surface law; the paper finds the identity.
+    """
+    r = positive("radius", radius)
+    w = finite("omega", omega)
+    g = positive("gravity", gravity)
+    return r * float(psi(r * w * w / g))
+
+
+def travel_sign(omega: float, vx: float) -> float:
+    """+1 if the body rolls/moves towards +x, -1 towards -x (omega is counter-clockwise)."""
+    if omega != 0.0:
+        return -1.0 if omega > 0.0 else 1.0
+    return -1.0 if vx < 0.0 else 1.0
+
+
+def rear_half_mask(
+    position: np.ndarray, centre: np.ndarray, submerged: np.ndarray, forward: float
+) -> np.ndarray:
+    """Elements behind the mid-angle of the contact arc, seen from the wheel centre.
+
+    The contact arc is spanned by the ``submerged`` elements; angles are measured at the
+    centre from straight down, positive towards the travel direction ``forward`` (+-1).
+    Returns a boolean mask (all False when nothing is submerged).
+    """
+    rel = np.asarray(position, float) - np.asarray(centre, float)
+    phi = np.arctan2(forward * rel[:, 0], -rel[:, 1])
+    if not np.any(submerged):
+        return np.zeros(len(phi), dtype=bool)
+    mid = 0.5 * (phi[submerged].min() + phi[submerged].max())
+    return phi < mid
+
+
+class FreeSurfaceModel(Protocol):
+    """Effective free-surface drop dh for each element (the structural correction)."""
+
+    def depth_shift(self, position: np.ndarray, centre: np.ndarray, omega: float, vx: float, surface_z: float) -> np.ndarray:
+        """dh (m, >= 0) for elements at world ``position`` (N, 2) of a body centred at ``centre``."""
+        ...
+
+
+@dataclass(frozen=True)
+class FlatFreeSurface:
+    """No structural correction: dh = 0 everywhere (quasistatic RFT, plates, runners)."""
+
+    def depth_shift(self, position, centre, omega, vx, surface_z):  # noqa: D102
+        return np.zeros(len(position))
+
+    def kernel_params(self, omega: float, vx: float) -> tuple[int, float, float]:
+        """(mode, dh, forward sign) for the compiled force kernel: mode 0 = flat."""
+        return 0, 0.0, 1.0
+
+
+@dataclass(frozen=True)
+class WheelRearHalf:
+    """The paper's wheel model: dh = r psi(r omega^2 / g) on the rear half of the contact arc.
+
+    Attributes
+    ----------
+    radius : r, m (nominal wheel radius).
+    gravity : g, m/s^2.
+    psi : dimensionless law, identity by default.
+    """
+
+    radius: float
+    gravity: float = GRAVITY
+    psi: Callable[[float], float] = identity_psi
+
+    def __post_init__(self) -> None:
+        positive("radius", self.radius)
+        positive("gravity", self.gravity)
+
+    def drop(self, omega: float) -> float:
+        return structural_depth_shift(self.radius, omega, self.gravity, self.psi)
+
+    def depth_shift(self, position, centre, omega, vx, surface_z):  # noqa: D102
+        submerged = np.asarray(position)[:, 1] < surface_z
+        rear = rear_half_mask(position, centre, submerged, travel_sign(omega, vx))
+        return np.where(rear, self.drop(omega), 0.0)
+
+    def kernel_params(self, omega: float, vx: float) -> tuple[int, float, float]:
+        """(mode, dh, forward sign) for the compiled force kernel: mode 1 = rear-half drop."""
+        return 1, self.drop(omega), travel_sign(omega, vx)
