@@ -1,0 +1,76 @@
+"""Free-surface measurements on MPM particle data (paper Fig 5C).
+
+The paper measures the structural correction as the drop dh of the rear free surface: "the
+lowest point making rear contact with the wheel for which hydrostatic pressure -> 0". We take
+the particles within a contact band of the wheel outline, behind the wheel centre (relative to
+the travel direction), whose pressure is below a small tolerance, and report how far the lowest
+of them lies below the undisturbed surface.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from intrusim._checks import InputError, finite, finite_array, positive
+
+
+def polygon_signed_distance(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """Signed distance (m) from ``points`` (N, 2) to a closed ``polygon`` (M, 2): < 0 inside."""
+    p = np.asarray(points, float)[:, None, :]
+    a = np.asarray(polygon, float)[None, :, :]
+    b = np.roll(a, -1, axis=1)
+    ab = b - a
+    t = np.clip(np.einsum("nmk,nmk->nm", p - a, ab) / np.einsum("nmk,nmk->nm", ab, ab), 0.0, 1.0)
+    d = np.min(np.linalg.norm(p - (a + t[..., None] * ab), axis=2), axis=1)
+    # even-odd rule for inside
+    ya, yb = a[..., 1], b[..., 1]
+    crosses = (ya > p[..., 1]) != (yb > p[..., 1])
+    x_cross = a[..., 0] + (p[..., 1] - ya) * ab[..., 0] / np.where(yb - ya == 0, 1.0, yb - ya)
+    inside = np.count_nonzero(crosses & (p[..., 0] < x_cross), axis=1) % 2 == 1
+    return np.where(inside, -d, d)
+
+
+def rear_contact_drop(
+    positions: np.ndarray,
+    pressure: np.ndarray,
+    polygon_world: np.ndarray,
+    centre: tuple[float, float],
+    forward: float,
+    surface_z: float,
+    band: float,
+    pressure_tol: float,
+) -> float:
+    """Drop dh (m) of the rear free surface where it meets the wheel; NaN if no rear contact.
+
+    Parameters
+    ----------
+    positions : (N, 2) particle positions, m.
+    pressure : (N,) particle pressure P = -tr(sigma)/3, Pa.
+    polygon_world : (M, 2) wheel outline in the world frame, m.
+    centre : wheel centre (x, z), m.
+    forward : +1 if the wheel travels towards +x, -1 otherwise.
+    surface_z : undisturbed free-surface height, m.
+    band : particles closer than this to the outline are in contact, m (about one grid cell).
+    pressure_tol : pressure below which a particle counts as at the free surface, Pa.
+    """
+    pos = finite_array("positions", positions, (2,))
+    p = finite_array("pressure", pressure)
+    if len(p) != len(pos):
+        raise InputError("positions and pressure must have the same length")
+    band = positive("band", band)
+    tol = positive("pressure_tol", pressure_tol)
+    cx, cz = finite("centre x", centre[0]), finite("centre z", centre[1])
+    if forward not in (1.0, -1.0, 1, -1):
+        raise InputError(f"forward must be +1 or -1, got {forward!r}")
+    # only particles inside the wheel's bounding circle plus the band can touch it
+    reach = np.max(np.linalg.norm(np.asarray(polygon_world) - [cx, cz], axis=1)) + band
+    near = np.hypot(pos[:, 0] - cx, pos[:, 1] - cz) < reach
+    near &= forward * (pos[:, 0] - cx) < 0.0  # rear half-plane
+    idx = np.flatnonzero(near)
+    if len(idx) == 0:
+        return float("nan")
+    dist = polygon_signed_distance(pos[idx], polygon_world)
+    contact = idx[(dist < band) & (p[idx] <= tol)]
+    if len(contact) == 0:
+        return float("nan")
+    return float(surface_z - pos[contact, 1].min())

@@ -1,0 +1,57 @@
+"""Rear free-surface measurement (Fig 5C method) and the MP4 writer."""
+
+import numpy as np
+import pytest
+
+from intrusim.analysis.free_surface import polygon_signed_distance, rear_contact_drop
+from intrusim.geometry import circle
+
+
+def test_signed_distance_square():
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    d = polygon_signed_distance(np.array([[0.5, 0.5], [1.5, 0.5], [0.5, -0.2], [0.9, 0.5]]), sq)
+    assert d == pytest.approx([-0.5, 0.5, 0.2, -0.1])
+
+
+def synthetic_bed(dh_rear, r=0.1, cz=0.04, h=0.004):
+    """Particles on a grid below z = 0, outside a wheel, with the rear surface lowered by dh_rear.
+
+    Pressure = rho g (local surface - z); a loose grain hovers above the rear surface (P = 0).
+    """
+    xs, zs = np.meshgrid(np.arange(-0.3, 0.3, h) + h / 2, np.arange(-0.2, 0.0, h) + h / 2)
+    pos = np.column_stack([xs.ravel(), zs.ravel()])
+    surface = np.where(pos[:, 0] < 0, -dh_rear, 0.0)
+    keep = (pos[:, 1] < surface) & (np.hypot(pos[:, 0], pos[:, 1] - cz) > r)
+    pos, surface = pos[keep], surface[keep]
+    p = 638 * 9.8 * (surface - pos[:, 1])
+    # a loose grain touching the wheel's rear, above the rear surface
+    zl = -dh_rear + 0.015
+    cos_a = (cz - zl) / (r + 0.003)
+    loose = np.array([[-(r + 0.003) * np.sqrt(1 - cos_a**2), zl]])
+    return np.vstack([pos, loose]), np.append(p, 0.0)
+
+
+@pytest.mark.parametrize("dh", [0.01, 0.03])
+def test_rear_contact_drop_recovers_surface(dh):
+    wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
+    pos, p = synthetic_bed(dh)
+    h = 0.004
+    got = rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=638 * 9.8 * h)
+    assert got == pytest.approx(dh, abs=1.5 * h)
+
+
+def test_rear_contact_drop_no_contact_is_nan():
+    wheel = circle(0.1, 0.1, 64).polygon + [0.0, 0.5]
+    pos, p = synthetic_bed(0.01)
+    assert np.isnan(rear_contact_drop(pos, p, wheel, (0.0, 0.5), 1.0, 0.0, band=0.006, pressure_tol=10.0))
+
+
+def test_movie_written(tmp_path):
+    from intrusim.io.movie import write_movie
+
+    frames = [np.full((32, 48, 3), 10 * i, np.uint8) for i in range(5)]
+    out = write_movie(frames, tmp_path / "m.mp4", fps=5)
+    assert out.exists() and out.stat().st_size > 100
+    assert not (tmp_path / "m.part.mp4").exists()
+    with pytest.raises(ValueError, match="no frames"):
+        write_movie([], tmp_path / "empty.mp4")
