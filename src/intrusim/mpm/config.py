@@ -189,12 +189,22 @@ class OutputConfig(_Model):
     snapshot_every: float | None = Field(None, gt=0, description="VTK snapshot interval, s")
     checkpoint_every: float | None = Field(None, gt=0, description="checkpoint interval, s")
     guard_every_steps: int = Field(50, ge=1, description="NaN/escape/CFL check interval, steps")
+    escape_margin_cells: float = Field(
+        1.0, ge=0, le=2.0,
+        description="a point more than this many cells outside [0, Lx] x [0, Lz] has escaped "
+        "(walls act on grid nodes, so points may sit a fraction of a cell beyond them)",
+    )
 
 
 class BackendConfig(_Model):
     arch: Literal["cpu", "cuda", "vulkan", "metal", "gpu"] = "cpu"
     precision: Literal["f32", "f64"] = "f32"
     cpu_threads: int | None = Field(None, ge=1)
+    p2g_chunks: int = Field(
+        4, ge=1, le=64,
+        description="CPU: P2G into this many private grid copies (no atomics, deterministic sum "
+        "order independent of the thread count); GPU uses atomics instead",
+    )
 
 
 class MPMConfig(_Model):

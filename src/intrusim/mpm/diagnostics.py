@@ -7,7 +7,7 @@ import taichi as ti
 
 @ti.kernel
 def guard_scan(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), lx: float, lz: float,
+    x: ti.types.ndarray(), v: ti.types.ndarray(), lx: float, lz: float, margin: float,
     out: ti.types.ndarray(),
 ):
     """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point]."""
@@ -21,7 +21,7 @@ def guard_scan(
         if bad:
             out[0] += 1.0
             ti.atomic_max(out[3], ti.cast(p, ti.f64))
-        elif xp[0] < 0.0 or xp[0] > lx or xp[1] < 0.0 or xp[1] > lz:
+        elif xp[0] < -margin or xp[0] > lx + margin or xp[1] < -margin or xp[1] > lz + margin:
             out[1] += 1.0
             ti.atomic_max(out[4], ti.cast(p, ti.f64))
         else:

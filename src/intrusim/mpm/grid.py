@@ -15,15 +15,19 @@ PAD = 3  # cells of padding around the domain, enough for the quadratic stencil 
 class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
-    def __init__(self, size: tuple[float, float], cells: tuple[int, int]):
+    def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
         self.h = self.size[0] / self.cells[0]
         self.pad = PAD
         self.shape = (self.cells[0] + 2 * PAD + 1, self.cells[1] + 2 * PAD + 1)
-        self.m = ti.ndarray(real, shape=self.shape)  # kg/m
-        self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # momentum in P2G, then velocity
+        self.chunks = int(chunks)
+        # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
+        self.m_parts = ti.ndarray(real, shape=(self.chunks, *self.shape))  # kg/m
+        self.p_parts = ti.Vector.ndarray(2, real, shape=(self.chunks, *self.shape))  # kg/s
+        self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
+        self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
 
     def node_positions(self) -> np.ndarray:
         """(nx, nz, 2) node coordinates, m."""
@@ -42,18 +46,31 @@ class Grid:
 
 
 @ti.kernel
-def clear_grid(m: ti.types.ndarray(), v: ti.types.ndarray()):
-    """m_i = 0, (m v)_i = 0."""
-    for I in ti.grouped(m):
-        m[I] = 0.0
-        v[I] = ti.Vector([0.0, 0.0])
+def clear_grid(m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray()):
+    """m_i = 0, (m v)_i = 0 in every P2G copy."""
+    for I in ti.grouped(m_parts):
+        m_parts[I] = 0.0
+        p_parts[I] = ti.Vector([0.0, 0.0])
 
 
 @ti.kernel
 def grid_momentum_update(
-    m: ti.types.ndarray(), v: ti.types.ndarray(), dt: float, gx: float, gz: float
+    m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray(), m: ti.types.ndarray(),
+    v: ti.types.ndarray(), dt: float, gx: float, gz: float,
 ):
-    """v_i = (m v)_i / m_i + dt g   (momentum balance on the grid, internal force already in (m v)_i)."""
-    for I in ti.grouped(m):
-        if m[I] > 0.0:
-            v[I] = v[I] / m[I] + dt * ti.Vector([gx, gz])
+    """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g   (internal force is already in (m v)_i).
+
+    The P2G copies are zeroed as they are read, ready for the next step.
+    """
+    for i, j in m:
+        mi = 0.0
+        pi = ti.Vector([0.0, 0.0])
+        for c in range(m_parts.shape[0]):
+            mi += m_parts[c, i, j]
+            pi += p_parts[c, i, j]
+            m_parts[c, i, j] = 0.0
+            p_parts[c, i, j] = ti.Vector([0.0, 0.0])
+        m[i, j] = mi
+        v[i, j] = ti.Vector([0.0, 0.0])
+        if mi > 0.0:
+            v[i, j] = pi / mi + dt * ti.Vector([gx, gz])

@@ -20,7 +20,7 @@ from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
-from .grid import Grid, clear_grid, grid_momentum_update
+from .grid import Grid, grid_momentum_update
 from .intruder import Intruder
 from .particles import Particles
 from .transfer import g2p_kernel, p2g
@@ -58,7 +58,8 @@ class Solver:
     def __init__(self, cfg: MPMConfig, particles: dict[str, np.ndarray] | None = None):
         self.cfg = cfg
         ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
-        self.grid = Grid(cfg.domain.size, cfg.domain.cells)
+        chunks = cfg.backend.p2g_chunks if cfg.backend.arch == "cpu" else 1
+        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks)
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = DruckerPragerSeparation.from_config(cfg.material)
@@ -97,9 +98,8 @@ class Solver:
     def step(self) -> None:
         """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies)."""
         g, p, dt = self.grid, self.particles, self.dt
-        clear_grid(g.m, g.v)
-        p2g(p.x, p.v, p.C, p.mass, p.vol, p.sigma, g.m, g.v, g.h, g.pad, dt)  # 1. P2G
-        grid_momentum_update(g.m, g.v, dt, *self.gravity)  # 2. momentum + gravity
+        p2g(p, g, dt)  # 1. P2G (the grid update leaves the P2G copies zeroed)
+        grid_momentum_update(g.m_parts, g.p_parts, g.m, g.v, dt, *self.gravity)  # 2. momentum + gravity
         self.walls.apply(g)  # 2. walls
         for obstacle, ocfg in zip(self.obstacles, self.cfg.obstacles):  # static bodies
             if ocfg.removal_time is None or self.t < ocfg.removal_time:
@@ -128,7 +128,7 @@ class Solver:
         """Stop with a diagnosis (after a failure checkpoint) on NaN, escape or CFL breach."""
         lx, lz = self.cfg.domain.size
         p = self.particles
-        guard_scan(p.x, p.v, lx, lz, self._scratch)
+        guard_scan(p.x, p.v, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
         if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
             return

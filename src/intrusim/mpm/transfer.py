@@ -21,24 +21,52 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
     return base, fx, w
 
 
-@ti.kernel
-def p2g(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gm: ti.types.ndarray(), gv: ti.types.ndarray(), h: float, pad: int, dt: float,
-):
+@ti.func
+def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
+                  mass: ti.template(), vol: ti.template(), sigma: ti.template(),
+                  gm: ti.template(), gp: ti.template(), h, pad, dt):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)]."""
     inv_h = 1.0 / h
+    base, fx, w = quadratic_weights(x[p], inv_h, pad, gm.shape[1], gm.shape[2])
+    affine = mass[p] * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
+    mv = mass[p] * v[p]
+    for i, j in ti.static(ti.ndrange(3, 3)):
+        dpos = (ti.Vector([i, j]) - fx) * h
+        weight = w[i][0] * w[j][1]
+        gp[c, base[0] + i, base[1] + j] += weight * (mv + affine @ dpos)
+        gm[c, base[0] + i, base[1] + j] += weight * mass[p]
+
+
+@ti.kernel
+def p2g_chunked(
+    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+    gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
+):
+    """P2G into one private grid copy per chunk of points (CPU): no atomics, fixed summation order."""
+    n = x.shape[0]
+    nc = gm.shape[0]
+    for c in range(nc):  # parallel over chunks, serial inside
+        for p in range(c * n // nc, (c + 1) * n // nc):
+            scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt)
+
+
+@ti.kernel
+def p2g_atomic(
+    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+    gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
+):
+    """P2G with atomic adds into grid copy 0 (GPU)."""
     for p in x:
-        base, fx, w = quadratic_weights(x[p], inv_h, pad, gm.shape[0], gm.shape[1])
-        affine = mass[p] * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
-        mv = mass[p] * v[p]
-        for i, j in ti.static(ti.ndrange(3, 3)):
-            offset = ti.Vector([i, j])
-            dpos = (offset - fx) * h
-            weight = w[i][0] * w[j][1]
-            gv[base + offset] += weight * (mv + affine @ dpos)
-            gm[base + offset] += weight * mass[p]
+        scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt)
+
+
+def p2g(particles, grid, dt: float) -> None:
+    """Particle-to-grid transfer into ``grid.m_parts`` / ``grid.p_parts`` (summed by the grid update)."""
+    kernel = p2g_chunked if grid.chunks > 1 else p2g_atomic
+    p = particles
+    kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.m_parts, grid.p_parts, grid.h, grid.pad, dt)
 
 
 @ti.func
