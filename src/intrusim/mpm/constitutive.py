@@ -136,3 +136,17 @@ class DruckerPragerSeparation:
 def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
     """P = -tr(sigma)/3 with the out-of-plane component, Pa."""
     return -(sigma[..., 0, 0] + sigma[..., 1, 1] + s_yy) / 3.0
+
+
+@ti.kernel
+def stress_update_batch(
+    sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), L: ti.types.ndarray(),
+    rho: ti.types.ndarray(), dgamma: ti.types.ndarray(), dt: float,
+    prm: ti.types.vector(4, float),
+):
+    """Apply :func:`drucker_prager_update` to arrays of points in place (tests, diagnostics)."""
+    for p in sigma:
+        sig, syy, dg = drucker_prager_update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
+        sigma[p] = sig
+        s_yy[p] = syy
+        dgamma[p] = dg
