@@ -1,0 +1,86 @@
+"""Lazy, once-per-process initialisation of the Taichi backend.
+
+Taichi can be initialised only once per process in practice (re-initialising destroys every
+field and ndarray). All MPM objects call :func:`ensure_initialized` before allocating memory;
+the first call wins and later calls with a different request only warn.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import dataclass
+
+import taichi as ti
+
+ARCHES = ("cpu", "cuda", "vulkan", "metal", "gpu")
+PRECISIONS = ("f32", "f64")
+
+
+@dataclass(frozen=True)
+class BackendInfo:
+    """What Taichi was initialised with."""
+
+    arch: str
+    precision: str
+    cpu_threads: int | None
+
+    @property
+    def real(self):
+        """Taichi dtype of the particle and grid arrays."""
+        return ti.f64 if self.precision == "f64" else ti.f32
+
+    @property
+    def np_real(self) -> str:
+        return "float64" if self.precision == "f64" else "float32"
+
+
+_INFO: BackendInfo | None = None
+
+
+def ensure_initialized(
+    arch: str = "cpu", precision: str = "f32", cpu_threads: int | None = None
+) -> BackendInfo:
+    """Initialise Taichi once for this process and return what is in use.
+
+    Parameters
+    ----------
+    arch : {"cpu", "cuda", "vulkan", "metal", "gpu"}
+        Requested backend; "gpu" lets Taichi pick any available GPU (falls back to CPU).
+    precision : {"f32", "f64"}
+        Floating-point type of particle and grid arrays. Force reductions are always f64.
+    cpu_threads : int, optional
+        Number of CPU threads (``None``: all cores; ``INTRUSIM_TI_THREADS`` overrides).
+    """
+    global _INFO
+    if arch not in ARCHES:
+        raise ValueError(f"arch must be one of {ARCHES}, got {arch!r}")
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
+    env_threads = os.environ.get("INTRUSIM_TI_THREADS")
+    if env_threads:
+        cpu_threads = int(env_threads)
+    if _INFO is not None:
+        if (arch, precision) != (_INFO.arch, _INFO.precision):
+            warnings.warn(
+                f"Taichi already initialised with arch={_INFO.arch}, precision={_INFO.precision}; "
+                f"ignoring request arch={arch}, precision={precision}",
+                stacklevel=2,
+            )
+        return _INFO
+    kwargs = dict(
+        arch=getattr(ti, arch),
+        default_fp=ti.f64 if precision == "f64" else ti.f32,
+        log_level=ti.WARN,
+        offline_cache=True,
+    )
+    if cpu_threads is not None:
+        kwargs["cpu_max_num_threads"] = int(cpu_threads)
+    ti.init(**kwargs)
+    _INFO = BackendInfo(arch=arch, precision=precision, cpu_threads=cpu_threads)
+    return _INFO
+
+
+def info() -> BackendInfo:
+    """Backend in use (initialising the default one if needed)."""
+    return _INFO if _INFO is not None else ensure_initialized()

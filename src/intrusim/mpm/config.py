@@ -1,0 +1,238 @@
+"""Validated configuration of an MPM run (pydantic v2).
+
+Every number the solver uses lives here, with its unit. Bad input fails at construction with
+an error naming the field, before any compute.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+Vec2 = tuple[float, float]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=False)
+
+
+class MaterialConfig(_Model):
+    """Drucker-Prager granular continuum with free separation (SPEC 1, Eq. 1-2)."""
+
+    rho_c: float = Field(638.0, gt=0, description="critical (close-packed) density, kg/m^3")
+    mu_s: float = Field(0.56, ge=0, description="internal friction coefficient tau/P at yield")
+    youngs_modulus: float = Field(1.0e6, gt=0, description="numerical elastic stiffness E, Pa")
+    poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson ratio nu")
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)), Pa."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+    @property
+    def lame_lambda(self) -> float:
+        """lambda = E nu / ((1 + nu)(1 - 2 nu)), Pa."""
+        nu = self.poisson_ratio
+        return self.youngs_modulus * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+
+
+class Rectangle(_Model):
+    """Axis-aligned rectangle [x0, x1] x [z0, z1], m."""
+
+    x0: float
+    z0: float
+    x1: float
+    z1: float
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if not (self.x1 > self.x0 and self.z1 > self.z0):
+            raise ValueError("rectangle needs x1 > x0 and z1 > z0")
+        return self
+
+
+class BedConfig(_Model):
+    """Initial granular bed: union of rectangles and polygons, minus excluded polygons."""
+
+    rectangles: list[Rectangle] = Field(default_factory=list)
+    polygons: list[list[Vec2]] = Field(default_factory=list, description="closed polygons, m")
+    density_ratio: float = Field(
+        1.0, gt=0, description="initial density / rho_c (< 1: loose, stress-free material)"
+    )
+    k0: float | Literal["elastic", "jaky"] = Field(
+        "elastic",
+        description="lateral earth-pressure ratio: number, 'elastic' nu/(1-nu) or 'jaky' 1-sin(phi)",
+    )
+    geostatic: bool = Field(True, description="initialise the geostatic stress")
+
+    @field_validator("k0")
+    @classmethod
+    def _k0_positive(cls, v):
+        if isinstance(v, float) and v < 0:
+            raise ValueError("k0 must be >= 0")
+        return v
+
+
+WallKind = Literal["frictionless", "sticky", "coulomb"]
+
+
+class WallConfig(_Model):
+    kind: WallKind = "frictionless"
+    mu: float = Field(0.0, ge=0, description="Coulomb friction coefficient (kind='coulomb')")
+
+
+class BoundaryConfig(_Model):
+    """Domain walls. The top of the domain is open (particles above it are a guard failure)."""
+
+    left: WallConfig = Field(default_factory=WallConfig)
+    right: WallConfig = Field(default_factory=WallConfig)
+    floor: WallConfig = Field(default_factory=lambda: WallConfig(kind="sticky"))
+
+
+class ObstacleConfig(_Model):
+    """Static rigid polygon (world frame), optionally removed at a given time (a gate)."""
+
+    vertices: list[Vec2] = Field(min_length=3)
+    mu: float = Field(0.0, ge=0, description="grain-obstacle friction coefficient")
+    removal_time: float | None = Field(None, ge=0, description="s; None: never removed")
+
+
+class PrescribedMotion(_Model):
+    """Body moved at constant velocity, reached by a linear ramp from rest."""
+
+    kind: Literal["prescribed"] = "prescribed"
+    vx: float = 0.0
+    vz: float = 0.0
+    omega: float = 0.0
+    ramp_time: float = Field(0.0, ge=0, description="s, linear ramp from rest")
+
+
+class CoupledMotion(_Model):
+    """Prescribed omega(t), free x and z from the granular force (wheel, runner)."""
+
+    kind: Literal["coupled"] = "coupled"
+    omega: float = Field(0.0, description="target angular velocity (ccw), rad/s")
+    ramp_time: float = Field(0.0, ge=0, description="s, linear ramp of omega from rest")
+    mass_x: float = Field(gt=0, description="effective horizontal inertia, kg")
+    mass_z: float = Field(gt=0, description="effective vertical inertia (weight = mass_z g), kg")
+    external_force: Vec2 = Field((0.0, 0.0), description="constant 3D force on the body, N")
+    free_x: bool = True
+    free_z: bool = True
+
+
+class IntruderConfig(_Model):
+    """Rigid intruder: a polygon in the body frame (ccw, reference point at origin)."""
+
+    vertices: list[Vec2] = Field(min_length=3, description="body-frame polygon, m")
+    width: float = Field(1.0, gt=0, description="out-of-plane width converting N/m to N, m")
+    mu_w: float = Field(0.35, ge=0, description="body-grain Coulomb friction")
+    x: float = 0.0
+    z: float = 0.0
+    theta: float = 0.0
+    motion: PrescribedMotion | CoupledMotion = Field(
+        default_factory=PrescribedMotion, discriminator="kind"
+    )
+
+
+class DomainConfig(_Model):
+    size: Vec2 = Field((1.0, 1.0), description="domain (Lx, Lz), m")
+    cells: tuple[int, int] = Field((200, 200), description="grid cells (nx, nz)")
+    particles_per_cell: int = Field(2, ge=1, le=4, description="per direction")
+
+    @field_validator("size")
+    @classmethod
+    def _pos_size(cls, v):
+        if min(v) <= 0:
+            raise ValueError("domain size must be positive")
+        return v
+
+    @field_validator("cells")
+    @classmethod
+    def _pos_cells(cls, v):
+        if min(v) < 4:
+            raise ValueError("need at least 4 cells per direction")
+        return v
+
+    @model_validator(mode="after")
+    def _square_cells(self):
+        hx = self.size[0] / self.cells[0]
+        hz = self.size[1] / self.cells[1]
+        if not math.isclose(hx, hz, rel_tol=1e-9):
+            raise ValueError(f"cells must be square: size/cells gives hx={hx}, hz={hz}")
+        return self
+
+    @property
+    def h(self) -> float:
+        """Grid spacing, m."""
+        return self.size[0] / self.cells[0]
+
+
+class TimeConfig(_Model):
+    t_end: float = Field(1.0, gt=0, description="physical end time, s")
+    cfl: float = Field(0.3, gt=0, le=1.0, description="C in dt = C h sqrt(rho_c / E)")
+    max_cell_fraction: float = Field(
+        0.25, gt=0, le=1.0, description="max particle displacement per step, in cells"
+    )
+    v_max_expected: float = Field(
+        1.0, gt=0, description="m/s; dt <= max_cell_fraction h / v_max_expected"
+    )
+    dt: float | None = Field(None, gt=0, description="override dt, s (must satisfy both limits)")
+
+
+class OutputConfig(_Model):
+    directory: str | None = Field(None, description="run folder; None: no files")
+    record_every: float = Field(0.01, gt=0, description="time-series interval, s")
+    snapshot_every: float | None = Field(None, gt=0, description="VTK snapshot interval, s")
+    checkpoint_every: float | None = Field(None, gt=0, description="checkpoint interval, s")
+    guard_every_steps: int = Field(50, ge=1, description="NaN/escape/CFL check interval, steps")
+    escape_margin_cells: float = Field(
+        1.0, ge=0, le=2.0,
+        description="a point more than this many cells outside [0, Lx] x [0, Lz] has escaped "
+        "(walls act on grid nodes, so points may sit a fraction of a cell beyond them)",
+    )
+
+
+class BackendConfig(_Model):
+    arch: Literal["cpu", "cuda", "vulkan", "metal", "gpu"] = "cpu"
+    precision: Literal["f32", "f64"] = "f32"
+    cpu_threads: int | None = Field(None, ge=1)
+    p2g_chunks: int = Field(
+        4, ge=1, le=64,
+        description="CPU: P2G into this many private grid copies (no atomics, deterministic sum "
+        "order independent of the thread count); GPU uses atomics instead",
+    )
+
+
+class MPMConfig(_Model):
+    """Everything needed to build a :class:`~intrusim.mpm.solver.Solver`."""
+
+    domain: DomainConfig = Field(default_factory=DomainConfig)
+    material: MaterialConfig = Field(default_factory=MaterialConfig)
+    bed: BedConfig = Field(default_factory=BedConfig)
+    boundaries: BoundaryConfig = Field(default_factory=BoundaryConfig)
+    obstacles: list[ObstacleConfig] = Field(default_factory=list)
+    intruders: list[IntruderConfig] = Field(default_factory=list)
+    gravity: Vec2 = Field((0.0, -9.8), description="m/s^2, (gx, gz)")
+    contact_band_cells: float = Field(
+        1.0, ge=0, description="grid nodes within this distance (cells) of a body are in contact"
+    )
+    time: TimeConfig = Field(default_factory=TimeConfig)
+    output: OutputConfig = Field(default_factory=OutputConfig)
+    backend: BackendConfig = Field(default_factory=BackendConfig)
+
+    @model_validator(mode="after")
+    def _bed_inside(self):
+        lx, lz = self.domain.size
+        for r in self.bed.rectangles:
+            if r.x0 < 0 or r.z0 < 0 or r.x1 > lx or r.z1 > lz:
+                raise ValueError(f"bed.rectangles: {r} lies outside the domain {lx} x {lz}")
+        return self
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "MPMConfig":
+        with open(path, "rb") as fh:
+            return cls.model_validate(tomllib.load(fh))

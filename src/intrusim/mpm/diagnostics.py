@@ -1,0 +1,69 @@
+"""Reductions over the material points: guards (NaN, escape, CFL) and global quantities."""
+
+
+import numpy as np
+import taichi as ti
+
+
+@ti.kernel
+def guard_scan(
+    x: ti.types.ndarray(), v: ti.types.ndarray(), lx: float, lz: float, margin: float,
+    out: ti.types.ndarray(),
+):
+    """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point]."""
+    for k in range(5):
+        out[k] = 0.0 if k != 3 and k != 4 else -1.0
+    for p in x:
+        xp = x[p]
+        vp = v[p]
+        speed = ti.cast(vp.norm(), ti.f64)
+        bad = ti.math.isnan(xp).any() or ti.math.isnan(vp).any() or ti.math.isinf(vp).any()
+        if bad:
+            out[0] += 1.0
+            ti.atomic_max(out[3], ti.cast(p, ti.f64))
+        elif xp[0] < -margin or xp[0] > lx + margin or xp[1] < -margin or xp[1] > lz + margin:
+            out[1] += 1.0
+            ti.atomic_max(out[4], ti.cast(p, ti.f64))
+        else:
+            ti.atomic_max(out[2], speed)
+
+
+@ti.kernel
+def kinetic_energy_and_mass(
+    v: ti.types.ndarray(), mass: ti.types.ndarray(), out: ti.types.ndarray()
+):
+    """out = [sum m |v|^2 / 2 (J/m), sum m (kg/m)] in float64."""
+    out[0] = 0.0
+    out[1] = 0.0
+    for p in v:
+        m = ti.cast(mass[p], ti.f64)
+        vv = ti.cast(v[p].dot(v[p]), ti.f64)
+        out[0] += 0.5 * m * vv
+        out[1] += m
+
+
+class SimulationError(RuntimeError):
+    """A guard stopped the run; the message holds the diagnosis."""
+
+
+def make_scratch(n: int = 5):
+    return ti.ndarray(ti.f64, shape=n)
+
+
+def guard_report(out: np.ndarray, x: np.ndarray, v: np.ndarray, dt: float, h: float,
+                 max_cell_fraction: float) -> str | None:
+    """Diagnosis text for a failed guard, or None if all is well."""
+    n_nan, n_esc, vmax = int(out[0]), int(out[1]), float(out[2])
+    if n_nan:
+        i = int(out[3])
+        return f"NaN/inf in particle state: {n_nan} points, e.g. point {i} at x={x[i]}, v={v[i]}"
+    if n_esc:
+        i = int(out[4])
+        return f"particle escape: {n_esc} points left the domain, e.g. point {i} at x={x[i]}, v={v[i]}"
+    if vmax * dt > max_cell_fraction * h:
+        i = int(np.argmax(np.linalg.norm(v, axis=1)))
+        return (
+            f"CFL breach: max speed {vmax:.4g} m/s moves {vmax * dt / h:.3g} cells per step "
+            f"(limit {max_cell_fraction}) at point {i}, x={x[i]}"
+        )
+    return None

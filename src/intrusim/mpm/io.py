@@ -1,0 +1,135 @@
+"""Run folder output: resolved config, time-series CSV, VTK snapshots, PNG plots, checkpoints."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .config import MPMConfig
+
+
+def package_version() -> str:
+    try:
+        from intrusim import __version__
+
+        return __version__
+    except Exception:  # pragma: no cover
+        return "unknown"
+
+
+def write_resolved_config(run_dir: Path, cfg: MPMConfig, extra: dict | None = None) -> Path:
+    """config.json with the validated config, the package version and derived numbers."""
+    run_dir.mkdir(parents=True, exist_ok=True)
+    payload = {"intrusim_version": package_version(), "config": cfg.model_dump(mode="json")}
+    if extra:
+        payload["derived"] = extra
+    path = run_dir / "config.json"
+    atomic_write_bytes(path, json.dumps(payload, indent=2).encode())
+    return path
+
+
+def atomic_write_bytes(path: Path, data: bytes) -> None:
+    """Write to a temporary file in the same folder, then rename (atomic on POSIX)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def save_checkpoint(path: Path, arrays: dict[str, np.ndarray], meta: dict) -> None:
+    """Atomic .npz checkpoint: particle arrays plus a JSON ``meta`` entry."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    os.close(fd)
+    try:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8), **arrays)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def load_checkpoint(path: Path) -> tuple[dict[str, np.ndarray], dict]:
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files if k != "meta"}
+        meta = json.loads(bytes(z["meta"]).decode())
+    return arrays, meta
+
+
+def write_csv(path: Path, rows: list[dict]) -> None:
+    """Time series as CSV (atomically rewritten, so a killed run never leaves half a line)."""
+    if not rows:
+        return
+    import io as _io
+
+    buf = _io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=list(rows[0].keys()))
+    writer.writeheader()
+    writer.writerows(rows)
+    atomic_write_bytes(Path(path), buf.getvalue().encode())
+
+
+def write_vtk(path: Path, fields: dict[str, np.ndarray]) -> None:
+    """Particle snapshot as a VTK point cloud (meshio); needs 'x' (N, 2) and point fields."""
+    import meshio
+
+    x = fields["x"]
+    points = np.column_stack([x[:, 0], np.zeros(len(x)), x[:, 1]])  # (x, y=0, z)
+    cells = [("vertex", np.arange(len(x)).reshape(-1, 1))]
+    point_data = {}
+    for k, a in fields.items():
+        if k == "x":
+            continue
+        if a.ndim == 2 and a.shape[1] == 2:  # in-plane vector -> 3 components
+            a = np.column_stack([a[:, 0], np.zeros(len(a)), a[:, 1]])
+        point_data[k] = np.ascontiguousarray(a, dtype=np.float64)
+    meshio.write(str(path), meshio.Mesh(points, cells, point_data=point_data), binary=True)
+
+
+def plot_field(path: Path, x: np.ndarray, value: np.ndarray, label: str,
+               polygons: list[np.ndarray] | None = None, size: tuple[float, float] | None = None,
+               log: bool = False) -> None:
+    """Scatter plot of the particles coloured by a field, with rigid bodies drawn on top."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    norm = None
+    if log:
+        pos = value[value > 0]
+        if len(pos):
+            norm = LogNorm(vmin=max(pos.min(), pos.max() * 1e-4), vmax=pos.max())
+        value = np.where(value > 0, value, np.nan)
+    sc = ax.scatter(x[:, 0], x[:, 1], c=value, s=2, cmap="viridis", norm=norm, linewidths=0)
+    fig.colorbar(sc, ax=ax, label=label)
+    for poly in polygons or []:
+        ax.fill(poly[:, 0], poly[:, 1], color="tab:red", alpha=0.8)
+    if size:
+        ax.set_xlim(0, size[0])
+        ax.set_ylim(0, size[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("z (m)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)

@@ -1,0 +1,268 @@
+"""Explicit MPM solver for the granular continuum (SPEC 1; Dunatunga & Kamrin 2015).
+
+``Solver.step`` follows the recipe: P2G, grid momentum with gravity, walls and static
+obstacles, rigid-intruder contact, G2P with density and stress update, body integration.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .backend import ensure_initialized
+from .bed import build_bed
+from .boundaries import Walls
+from .config import MPMConfig, PrescribedMotion
+from .constitutive import DruckerPragerSeparation, pressure
+from .contact import BodyPose, PolygonContact
+from .diagnostics import (
+    SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
+)
+from .grid import Grid, grid_momentum_update
+from .intruder import Intruder
+from .particles import Particles
+from .transfer import g2p_kernel, p2g
+from . import io as mpm_io
+
+STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def time_step_limits(cfg: MPMConfig) -> dict[str, float]:
+    """Elastic CFL dt = C h sqrt(rho_c / E) and the displacement limit dt = f h / v_max (s)."""
+    h = cfg.domain.h
+    v_max = cfg.time.v_max_expected
+    for ic in cfg.intruders:
+        m = ic.motion
+        radius = float(np.max(np.linalg.norm(np.asarray(ic.vertices), axis=1)))
+        v_body = abs(m.omega) * radius
+        if isinstance(m, PrescribedMotion):
+            v_body += math.hypot(m.vx, m.vz)
+        v_max = max(v_max, v_body)
+    dt_elastic = cfg.time.cfl * h * math.sqrt(cfg.material.rho_c / cfg.material.youngs_modulus)
+    dt_motion = cfg.time.max_cell_fraction * h / v_max
+    return {"dt_elastic": dt_elastic, "dt_motion": dt_motion, "v_max": v_max}
+
+
+class Solver:
+    """One MPM simulation. Several solvers may live in one process (each owns its arrays).
+
+    Parameters
+    ----------
+    cfg : validated :class:`MPMConfig`.
+    particles : optional initial particle arrays (see :data:`particles.FIELDS`); default: the
+        bed of ``cfg.bed`` with geostatic stress.
+    """
+
+    def __init__(self, cfg: MPMConfig, particles: dict[str, np.ndarray] | None = None):
+        self.cfg = cfg
+        ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
+        chunks = cfg.backend.p2g_chunks if cfg.backend.arch == "cpu" else 1
+        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks)
+        self.h = self.grid.h
+        self.gravity = tuple(float(g) for g in cfg.gravity)
+        self.material = DruckerPragerSeparation.from_config(cfg.material)
+        self.walls = Walls(cfg.boundaries)
+        band = cfg.contact_band_cells * self.h
+        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band) for o in cfg.obstacles]
+        self.intruders = [Intruder(ic, band, self.gravity) for ic in cfg.intruders]
+        if particles is None:
+            exclude = [np.asarray(o.vertices) for o in cfg.obstacles]
+            exclude += [b.world_vertices() for b in self.intruders]
+            particles = build_bed(
+                cfg.domain.size, self.h, cfg.domain.particles_per_cell, cfg.bed, cfg.material,
+                self.gravity, exclude,
+            )
+        self.particles = Particles(particles)
+        self.limits = time_step_limits(cfg)
+        dt_max = min(self.limits["dt_elastic"], self.limits["dt_motion"])
+        if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
+            raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
+        self.dt = cfg.time.dt or dt_max
+        self._g2p = g2p_kernel(self.material.taichi_update)
+        self._scratch = make_scratch()
+        self.step_count = 0
+        self.rows: list[dict] = []
+        self._impulse_prev = [np.zeros(3) for _ in self.intruders]
+        self._impulse_mark = [np.zeros(3) for _ in self.intruders]
+        self._step_mark = 0
+        self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
+
+    # ------------------------------------------------------------------ the MPM step
+    @property
+    def t(self) -> float:
+        """Physical time, s (step_count * dt, so a restart lands on the same times)."""
+        return self.step_count * self.dt
+
+    def step(self) -> None:
+        """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies)."""
+        g, p, dt = self.grid, self.particles, self.dt
+        p2g(p, g, dt)  # 1. P2G (the grid update leaves the P2G copies zeroed)
+        grid_momentum_update(g.m_parts, g.p_parts, g.m, g.v, dt, *self.gravity)  # 2. momentum + gravity
+        self.walls.apply(g)  # 2. walls
+        for obstacle, ocfg in zip(self.obstacles, self.cfg.obstacles):  # static bodies
+            if ocfg.removal_time is None or self.t < ocfg.removal_time:
+                obstacle.apply(g, STATIC_POSE, dt)
+        for body in self.intruders:  # 3. rigid intruders (Coulomb, no tension)
+            body.contact.apply(g, body.state.pose(), dt)
+        self._g2p(  # 4-6. G2P, density, stress
+            p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
+            g.v, g.h, g.pad, dt, self.material.params,
+        )
+        self.step_count += 1
+        self._advance_bodies()
+
+    def _advance_bodies(self) -> None:
+        for k, body in enumerate(self.intruders):
+            if body.coupled:
+                impulse = body.contact.read_impulse()
+                force = (impulse - self._impulse_prev[k]) / self.dt
+                self._impulse_prev[k] = impulse
+                body.advance(self.t, self.dt, force[:2])
+            else:
+                body.set_time(self.t)
+
+    # ------------------------------------------------------------------ diagnostics
+    def check_guards(self) -> None:
+        """Stop with a diagnosis (after a failure checkpoint) on NaN, escape or CFL breach."""
+        lx, lz = self.cfg.domain.size
+        p = self.particles
+        guard_scan(p.x, p.v, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
+        out = self._scratch.to_numpy()
+        if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
+            return
+        state = p.to_numpy(["x", "v"])
+        diag = guard_report(out, state["x"], state["v"], self.dt, self.h, self.cfg.time.max_cell_fraction)
+        where = ""
+        if self.run_dir is not None:
+            path = self.run_dir / "checkpoint_failure.npz"
+            self.save_checkpoint(path)
+            where = f"; state saved to {path}"
+        raise SimulationError(f"{diag} at t={self.t:.6g} s (step {self.step_count}){where}")
+
+    def grain_energy_and_mass(self) -> tuple[float, float]:
+        """Kinetic energy (J) and mass (kg) of the grains, 3D via the first intruder's width (else per m)."""
+        kinetic_energy_and_mass(self.particles.v, self.particles.mass, self._scratch)
+        out = self._scratch.to_numpy()
+        width = self.intruders[0].width if self.intruders else 1.0
+        return float(out[0]) * width, float(out[1]) * width
+
+    def record(self) -> dict:
+        """Append one time-series row; forces are averaged since the previous row (3D, N)."""
+        elapsed = (self.step_count - self._step_mark) * self.dt
+        row: dict = {"time": self.t, "step": self.step_count}
+        for k, body in enumerate(self.intruders):
+            pre = "" if k == 0 else f"b{k}_"
+            impulse = body.contact.read_impulse()
+            f = (impulse - self._impulse_mark[k]) / elapsed if elapsed > 0 else np.zeros(3)
+            self._impulse_mark[k] = impulse
+            st = body.state
+            row.update({f"{pre}{n}": getattr(st, n) for n in ("x", "z", "theta", "vx", "vz", "omega")})
+            row.update({f"{pre}fx": f[0] * body.width, f"{pre}fz": f[1] * body.width,
+                        f"{pre}moment": f[2] * body.width})
+        ke, mass = self.grain_energy_and_mass()
+        row.update({"kinetic_energy": ke, "grain_mass": mass})
+        self._step_mark = self.step_count
+        self.rows.append(row)
+        return row
+
+    def particle_fields(self) -> dict[str, np.ndarray]:
+        """Host copy of the particle state plus derived pressure and density."""
+        d = self.particles.to_numpy()
+        d["pressure"] = pressure(d["sigma"], d["s_yy"])
+        d["density"] = d["mass"] / d["vol"]
+        return d
+
+    # ------------------------------------------------------------------ run loop and files
+    def run(self, t_end: float | None = None, progress=None) -> list[dict]:
+        """Step to ``t_end`` (default cfg.time.t_end), recording, checking and saving on schedule."""
+        out = self.cfg.output
+        t_end = self.cfg.time.t_end if t_end is None else t_end
+        n_end = int(round(t_end / self.dt))
+        every = lambda period: None if period is None else max(1, int(round(period / self.dt)))
+        rec, snap, ckpt = every(out.record_every), every(out.snapshot_every), every(out.checkpoint_every)
+        if self.run_dir is not None:
+            mpm_io.write_resolved_config(self.run_dir, self.cfg, {"dt": self.dt, **self.limits})
+        if self.step_count == 0 and not self.rows:
+            self.record()
+            if snap and self.run_dir is not None:
+                self.write_snapshot()
+        while self.step_count < n_end:
+            self.step()
+            n = self.step_count
+            if n % out.guard_every_steps == 0 or n == n_end:
+                self.check_guards()
+            if n % rec == 0:
+                self.record()
+                if progress is not None:
+                    progress(self)
+            if self.run_dir is not None:
+                if snap and n % snap == 0:
+                    self.write_snapshot()
+                if ckpt and n % ckpt == 0:
+                    self.save_checkpoint(self.run_dir / "checkpoint.npz")
+        if self.run_dir is not None:
+            mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
+        return self.rows
+
+    def write_snapshot(self) -> Path:
+        """VTK point cloud and PNG plot (equivalent plastic strain rate) of the particles."""
+        d = self.particle_fields()
+        snap_dir = self.run_dir / "snapshots"
+        snap_dir.mkdir(parents=True, exist_ok=True)
+        path = snap_dir / f"particles_{self.step_count:08d}.vtu"
+        mpm_io.write_vtk(path, {
+            "x": d["x"], "velocity": d["v"], "pressure": d["pressure"], "density": d["density"],
+            "eps_p": d["eps_p"], "gdot_p": d["gdot_p"],
+        })
+        mpm_io.plot_field(
+            snap_dir / f"gdot_p_{self.step_count:08d}.png", d["x"], d["gdot_p"],
+            "equivalent plastic strain rate (1/s)", [b.world_vertices() for b in self.intruders],
+            self.cfg.domain.size, log=True,
+        )
+        return path
+
+    def save_checkpoint(self, path: Path) -> None:
+        """Atomic checkpoint of everything needed to continue bit-for-bit (single thread)."""
+        meta = {
+            "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
+            "step_mark": self._step_mark,
+            "bodies": [b.state.as_dict() for b in self.intruders],
+            "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
+            "impulse_prev": [a.tolist() for a in self._impulse_prev],
+            "impulse_mark": [a.tolist() for a in self._impulse_mark],
+        }
+        path.parent.mkdir(parents=True, exist_ok=True)
+        mpm_io.save_checkpoint(path, self.particles.to_numpy(), meta)
+        if self.run_dir is not None and path.parent == self.run_dir:
+            mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
+
+    def load_checkpoint(self, path: Path) -> None:
+        """Restore the state saved by :meth:`save_checkpoint` (same config)."""
+        arrays, meta = mpm_io.load_checkpoint(Path(path))
+        if not math.isclose(meta["dt"], self.dt, rel_tol=1e-12):
+            raise ValueError(f"checkpoint dt {meta['dt']} differs from this config's dt {self.dt}")
+        self.particles.load(arrays)
+        self.step_count = int(meta["step_count"])
+        self.rows = list(meta["rows"])
+        self._step_mark = int(meta["step_mark"])
+        for k, body in enumerate(self.intruders):
+            for name, val in meta["bodies"][k].items():
+                setattr(body.state, name, val)
+            body.contact.impulse.from_numpy(np.asarray(meta["impulse"][k], dtype=np.float64))
+            self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
+            self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
+
+    @classmethod
+    def resume(cls, run_dir: str | Path) -> "Solver":
+        """Rebuild a solver from a run folder's config.json and continue from checkpoint.npz."""
+        import json
+
+        run_dir = Path(run_dir)
+        payload = json.loads((run_dir / "config.json").read_text())
+        solver = cls(MPMConfig.model_validate(payload["config"]))
+        ckpt = run_dir / "checkpoint.npz"
+        if ckpt.exists():
+            solver.load_checkpoint(ckpt)
+        return solver
