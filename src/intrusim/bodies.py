@@ -180,6 +180,12 @@ class Trajectory:
     iterations: np.ndarray
     meta: dict[str, Any] = field(default_factory=dict)
 
+    def concatenate(self, other: "Trajectory") -> "Trajectory":
+        """This trajectory followed by ``other`` (which starts at this one's last state)."""
+        names = ("t", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment", "iterations")
+        joined = {k: np.concatenate([getattr(self, k), getattr(other, k)[1:]]) for k in names}
+        return Trajectory(meta=dict(self.meta), **joined)
+
     def state(self, i: int) -> BodyState:
         return BodyState(self.x[i], self.z[i], self.theta[i], self.vx[i], self.vz[i], self.omega[i])
 
@@ -282,8 +288,9 @@ def simulate(
     initial: BodyState,
     duration: float,
     settings: IntegratorSettings | None = None,
+    t0: float = 0.0,
 ) -> Trajectory:
-    """Integrate the driven body for ``duration`` seconds from ``initial``.
+    """Integrate the driven body for ``duration`` seconds from ``initial`` at time ``t0``.
 
     Parameters
     ----------
@@ -294,6 +301,7 @@ def simulate(
     initial : state at t = 0 (x, z of the reference point, m; theta, rad; vx, vz, m/s).
     duration : float, s.
     settings : time step and scheme.
+    t0 : float, s. Start time (the drive's clock), to continue a run from its last state.
 
     Returns
     -------
@@ -308,7 +316,8 @@ def simulate(
     force = force_function(model)
     dt = s.dt
     n = int(math.ceil(duration / dt - 1e-9))
-    t = np.arange(n + 1) * dt
+    t0 = finite("t0", t0)
+    t = t0 + np.arange(n + 1) * dt
     out = {k: np.empty(n + 1) for k in ("x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")}
     iters = np.zeros(n + 1, dtype=np.int32)
     inv_mx, inv_mz = 1.0 / body.mass_x, 1.0 / body.mass_z
@@ -316,7 +325,8 @@ def simulate(
     az_ext = body.external_fz * inv_mz - body.gravity
     x, z, vx, vz = float(initial.x), float(initial.z), float(initial.vx), float(initial.vz)
     th0 = float(initial.theta)
-    om = drive.omega_at(0.0)
+    om = drive.omega_at(t0)
+    angle0 = drive.angle_at(t0)
     fx, fz, m = force(x, z, th0, vx, vz, om)
     surface = getattr(model, "surface_z", 0.0)
     # residual tolerance of a stalled Newton iteration, as a velocity: dt * force_tol / m
@@ -328,7 +338,7 @@ def simulate(
     for i in range(1, n + 1):
         ti = float(t[i])
         om1 = drive.omega_at(ti)
-        th1 = th0 + drive.angle_at(ti)
+        th1 = th0 + (drive.angle_at(ti) - angle0)
         if s.scheme == "implicit":
             vx1, vz1, fx, fz, m, it = _implicit_step(
                 force, x, z, th1, vx, vz, om1, dt, ax_ext, az_ext, inv_mx, inv_mz, s, ti, g_tol, jac
