@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Optional
+
 import numpy as np
 import typer
 
@@ -61,6 +64,93 @@ def forces(
         for name, m in models.items():
             w = m.wrench(state)
             typer.echo(f"{d * 1e3:10.1f} | {name:>13} | {w.fx:8.2f} | {w.fz:8.2f} | {w.moment:8.3f}")
+
+
+def _fail(err: Exception) -> None:
+    typer.echo(f"error: {err}", err=True)
+    raise typer.Exit(2)
+
+
+@app.command()
+def steady(
+    scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
+    model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
+    omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
+    lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
+) -> None:
+    """Steady-state speed, sinkage and slip of a driven wheel or runner."""
+    from intrusim.analysis.steady import NoContactError, run_steady
+    from intrusim.bodies import IntegratorError
+    from intrusim.scenarios import load_scenario
+
+    try:
+        scn = load_scenario(scenario)
+        st = run_steady(scn, model, omega_rpm, lam)
+    except (InputError, IntegratorError, NoContactError) as err:
+        _fail(err)
+    typer.echo(
+        f"{scn.name}, {model} (lambda = {st.meta['lam']:g}), omega = {omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:.3g} ms, "
+        f"window {st.window[0]:.2f}-{st.window[1]:.2f} s ({st.revolutions} rev){'' if st.settled else ', NOT SETTLED'}"
+    )
+    typer.echo(f"{'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | {'v/sqrt(gl)':>10} | {'sinkage/l':>9} | {'omega/omega0':>12}")
+    typer.echo(
+        f"{st.velocity:8.4f} | {st.sinkage * 1e3:10.2f} | {st.slip:6.3f} | {st.velocity / scn.velocity_scale:10.4f} | "
+        f"{st.sinkage / scn.length_scale:9.4f} | {st.omega / scn.omega_0:12.3f}"
+    )
+
+
+def _parse_rpm(text: str) -> list[float]:
+    """'10,30,90' or 'start:stop:step' (inclusive stop) -> RPM list."""
+    try:
+        if ":" in text:
+            a, b, c = (float(x) for x in text.split(":"))
+            return list(np.arange(a, b + 0.5 * c, c))
+        return [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(f"omega list must be 'a,b,c' or 'start:stop:step' (RPM), got {text!r}") from None
+
+
+@app.command()
+def sweep(
+    scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
+    model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
+    omega_rpm: str = typer.Option("10:90:10", help="RPM list 'a,b,c' or range 'start:stop:step'."),
+    lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction."),
+    parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
+    scheduler_address: Optional[str] = typer.Option(None, help="Existing Dask scheduler (default: a LocalCluster)."),
+    csv: Optional[Path] = typer.Option(None, help="Also write the records to this CSV file."),
+) -> None:
+    """Steady states over a range of omega (failed points are reported, the rest kept)."""
+    from intrusim.analysis.sweep import sweep_omega
+    from intrusim.scenarios import load_scenario
+
+    try:
+        scn = load_scenario(scenario)
+        res = sweep_omega(scn, model, _parse_rpm(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address)
+    except InputError as err:
+        _fail(err)
+    typer.echo(f"{scn.name}, {model}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
+    typer.echo(res.table())
+    if csv is not None:
+        res.to_csv(csv)
+    if res.errors:
+        raise typer.Exit(1)
+
+
+@app.command()
+def reproduce(
+    figure: str = typer.Argument(..., help="fig4b, fig5ab, fig7bc, figs1 or fig6a."),
+    out: Path = typer.Option(Path("figures"), help="Output folder for the PNG and CSV."),
+    quick: bool = typer.Option(False, help="Coarse, fast version."),
+    parallel: bool = typer.Option(True, help="Run the omega sweeps on a Dask cluster."),
+) -> None:
+    """Reproduce one of the paper's RFT/DRFT figures (PNG + CSV of the plotted numbers)."""
+    from intrusim.figures import FIGURES
+
+    if figure not in FIGURES:
+        _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
+    for p in FIGURES[figure](out, quick=quick, parallel=parallel):
+        typer.echo(str(p))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,173 @@
+"""Steady-state locomotion: run a scenario, average over whole revolutions, report v, sinkage, slip.
+
+Definitions (SI):
+
+* translation velocity v: mean of vx over the averaging window, m/s;
+* sinkage: depth of the lowest point of the TRUE outline polygon (grousers / flaps at their real
+  height, not the shadowed RFT height) below the undisturbed free surface z = surface_z, at each
+  recorded step; the steady value is its mean over the window, m (negative = above the surface);
+* slip = 1 - v / (r |omega|), r = the body's nominal (outer) radius ``shape.radius``.
+
+Window: the last ``average_revolutions`` WHOLE revolutions of the run (after the ramp and a
+settling time), so a non-round body (runner: a limit cycle, not a steady state) is averaged over
+complete cycles. ``drift`` compares the means of the first and second half of the window
+(relative to the mean speed); a large drift means the run was too short to settle.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from intrusim._checks import InputError, finite
+from intrusim.bodies import IntegratorSettings, Trajectory, simulate
+from intrusim.geometry import Shape
+
+
+class NoContactError(RuntimeError):
+    """The body never touched the medium during the averaging window."""
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """Window averages of one run, plus the time series it came from.
+
+    Attributes
+    ----------
+    omega : rad/s, |omega| at steady state.
+    velocity : m/s, mean forward speed.
+    velocity_z : m/s, mean vertical speed (should be ~0).
+    sinkage : m, mean depth of the lowest true-outline point below the surface.
+    slip : 1 - velocity / (radius * omega).
+    velocity_std, sinkage_std : standard deviations over the window (limit-cycle amplitude).
+    drift : max of the relative change of the mean speed and the change of the mean sinkage
+        over r, between the two halves of the window.
+    settled : drift <= the scenario's run.drift_tol (always True for a bare steady_state call).
+    window : (t_start, t_end), s.
+    revolutions : whole revolutions averaged over.
+    radius : m, r used for slip.
+    trajectory : the full time series; ``sinkage_series`` (m) per recorded step.
+    """
+
+    omega: float
+    velocity: float
+    velocity_z: float
+    sinkage: float
+    slip: float
+    velocity_std: float
+    sinkage_std: float
+    drift: float
+    settled: bool
+    window: tuple[float, float]
+    revolutions: int
+    radius: float
+    trajectory: Trajectory = field(repr=False)
+    sinkage_series: np.ndarray = field(repr=False)
+    meta: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    def summary(self) -> dict[str, float]:
+        """Scalars only (for tables, CSV and sweeps)."""
+        return {
+            "omega": self.omega, "velocity": self.velocity, "sinkage": self.sinkage, "slip": self.slip,
+            "velocity_std": self.velocity_std, "sinkage_std": self.sinkage_std, "drift": self.drift,
+            "velocity_z": self.velocity_z, "settled": float(self.settled),
+        }  # fmt: skip
+
+
+def outline_sinkage(polygon: np.ndarray, z: np.ndarray, theta: np.ndarray, surface_z: float = 0.0) -> np.ndarray:
+    """Depth below ``surface_z`` of the lowest outline vertex, for each (z, theta), m.
+
+    polygon : (M, 2) body-frame outline; z : (T,) reference-point height, m; theta : (T,) rad.
+    World height of vertex p: z + sin(theta) p_x + cos(theta) p_z.
+    """
+    p = np.asarray(polygon, float)
+    zw = np.asarray(z)[:, None] + np.sin(theta)[:, None] * p[None, :, 0] + np.cos(theta)[:, None] * p[None, :, 1]
+    return surface_z - zw.min(axis=1)
+
+
+def steady_state(
+    traj: Trajectory, shape: Shape, revolutions: int, surface_z: float = 0.0
+) -> SteadyState:
+    """Average ``traj`` over its last ``revolutions`` whole revolutions (see module docstring).
+
+    Raises
+    ------
+    InputError if the run is shorter than the window or the body does not turn;
+    NoContactError if the granular force vanishes throughout the window.
+    """
+    omega = abs(float(traj.omega[-1]))
+    if omega <= 0.0:
+        raise InputError("steady state needs a turning body (omega = 0 at the end of the run)")
+    period = 2.0 * math.pi / omega
+    t_end = float(traj.t[-1])
+    t_start = t_end - revolutions * period
+    if t_start < 0.0:
+        raise InputError(f"run of {t_end:.3g} s is shorter than {revolutions} revolution(s) ({revolutions * period:.3g} s)")
+    sel = traj.t > t_start + 1e-12  # steps (t_start, t_end]: one sample per dt, whole revolutions
+    if not np.any(np.abs(traj.fx[sel]) + np.abs(traj.fz[sel]) > 0.0):
+        depth = surface_z - float(np.min(outline_sinkage(shape.polygon, traj.z[-1:], traj.theta[-1:], 0.0) * -1 + traj.z[-1]))
+        raise NoContactError(
+            f"the body never touched the medium in the averaging window (t = {t_start:.3g}-{t_end:.3g} s); "
+            f"its lowest point ended {abs(depth):.3g} m from the surface. Start it lower "
+            "(run.initial_sinkage) or check its weight and external force."
+        )
+    sink = outline_sinkage(shape.polygon, traj.z, traj.theta, surface_z)
+    v = traj.vx[sel]
+    half = len(v) // 2
+    v_mean = float(v.mean())
+    r = float(shape.radius)
+    drift = 0.0
+    if half > 0:
+        sk = sink[sel]
+        drift = max(
+            abs(v[half:].mean() - v[:half].mean()) / max(abs(v_mean), 1e-12),
+            abs(sk[half:].mean() - sk[:half].mean()) / r,
+        )
+    return SteadyState(
+        omega=omega, velocity=v_mean, velocity_z=float(traj.vz[sel].mean()), sinkage=float(sink[sel].mean()),
+        slip=1.0 - v_mean / (r * omega), velocity_std=float(v.std()), sinkage_std=float(sink[sel].std()),
+        drift=drift, settled=True, window=(t_start, t_end), revolutions=revolutions, radius=r, trajectory=traj,
+        sinkage_series=sink,
+    )  # fmt: skip
+
+
+def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: float | None = None) -> SteadyState:
+    """Simulate ``scenario`` (a LocomotorScenario) with force model ``kind`` at ``omega_rpm``.
+
+    Parameters
+    ----------
+    scenario : LocomotorScenario (geometry, inertias, force-model parameters, run control).
+    kind : "rft", "drft-inertial" or "drft".
+    omega_rpm : RPM, > 0 (forward rolling).
+    lam : overrides the scenario's lambda.
+
+    Returns
+    -------
+    SteadyState averaged over the scenario's ``run.average_revolutions`` last revolutions.
+    """
+    w = finite("omega_rpm", omega_rpm)
+    if w <= 0.0:
+        raise InputError(f"omega_rpm must be > 0, got {omega_rpm!r}")
+    model = scenario.build_model(kind, lam)
+    shape = scenario.rft_shape()
+    drive = scenario.drive(w)
+    run = scenario.run
+    settings = IntegratorSettings(dt=run.dt(drive.omega))
+    body, initial = scenario.rigid_body(), scenario.initial_state(shape)
+    traj = simulate(model, body, drive, initial, run.duration(drive.omega), settings)
+    st = steady_state(traj, shape, run.average_revolutions, model.surface_z)
+    extensions = 0
+    while st.drift > run.drift_tol and extensions < run.max_extensions:  # running means still drifting
+        more = simulate(
+            model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings, t0=float(traj.t[-1])
+        )  # fmt: skip
+        traj = traj.concatenate(more)
+        st = steady_state(traj, shape, run.average_revolutions, model.surface_z)
+        extensions += 1
+    if st.drift > run.drift_tol:
+        st = replace(st, settled=False)
+    st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam, dt=settings.dt, extensions=extensions)
+    return st

@@ -1,0 +1,165 @@
+"""Sweeps of a locomotion scenario over omega, serial or on a Dask cluster.
+
+Each point is an independent :func:`intrusim.analysis.steady.run_steady`. By default the points
+run in parallel on a local Dask ``distributed`` cluster (processes, one worker per core); pass
+``scheduler_address`` to use an existing cluster, or ``parallel=False`` for a plain loop (used by
+the tests). A point that fails (bad input, integrator failure, no contact) becomes an error record;
+every other point is still returned.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from intrusim._checks import InputError
+from intrusim.analysis.steady import run_steady
+
+FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
+
+
+def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -> dict[str, Any]:
+    """One steady state as a flat record; failures are caught and described, never raised."""
+    rec: dict[str, Any] = {"omega_rpm": omega_rpm, "ok": False, "error": ""}
+    try:
+        st = run_steady(scenario, kind, omega_rpm, lam)
+    except Exception as err:  # noqa: BLE001 - one bad point must not sink the sweep
+        rec["error"] = f"{type(err).__name__}: {err}"
+        return rec
+    rec.update(st.summary())
+    rec["settled"] = bool(st.settled)
+    rec["ok"] = True
+    return rec
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """Records of an omega sweep, in the order of the requested omegas.
+
+    ``records[i]`` has keys :data:`FIELDS` (SI: velocity m/s, sinkage m, slip 1); failed points
+    have ok = False, NaN numbers and an ``error`` message.
+    """
+
+    scenario: str
+    kind: str
+    lam: float | None
+    records: list[dict[str, Any]]
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def column(self, name: str) -> np.ndarray:
+        return np.array([r.get(name, math.nan) if r["ok"] else math.nan for r in self.records], float)
+
+    @property
+    def omega_rpm(self) -> np.ndarray:
+        return np.array([r["omega_rpm"] for r in self.records], float)
+
+    @property
+    def errors(self) -> list[dict[str, Any]]:
+        return [r for r in self.records if not r["ok"]]
+
+    def table(self) -> str:
+        """A short fixed-width table (mm, m/s, RPM)."""
+        lines = [f"{'omega RPM':>9} | {'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | note"]
+        for r in self.records:
+            if r["ok"]:
+                note = "" if r.get("settled", True) else "not settled"
+                lines.append(f"{r['omega_rpm']:9.4g} | {r['velocity']:8.4f} | {r['sinkage'] * 1e3:10.2f} | {r['slip']:6.3f} | {note}")
+            else:
+                lines.append(f"{r['omega_rpm']:9.4g} | {'-':>8} | {'-':>10} | {'-':>6} | ERROR {r['error']}")
+        return "\n".join(lines)
+
+    def to_csv(self, path: str | Path) -> Path:
+        p = Path(path)
+        with p.open("w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=FIELDS, extrasaction="ignore")
+            w.writeheader()
+            for r in self.records:
+                w.writerow({k: r.get(k, "") for k in FIELDS})
+        return p
+
+
+def _run_dask(
+    scenario: Any, kind: str, omegas: list[float], lam: float | None, scheduler_address: str | None,
+    n_workers: int | None, progress: bool,
+) -> list[dict[str, Any]]:  # fmt: skip
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    cluster = None
+    if scheduler_address is None:
+        cluster = LocalCluster(
+            n_workers=n_workers or os.cpu_count() or 1, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+        client = Client(cluster)
+    else:
+        client = Client(scheduler_address)
+    try:
+        futures = [client.submit(sweep_point, scenario, kind, w, lam, pure=False) for w in omegas]
+        index = {f.key: i for i, f in enumerate(futures)}
+        out: list[dict[str, Any] | None] = [None] * len(omegas)
+        bar = _bar(len(omegas), progress)
+        for fut in as_completed(futures):
+            i = index[fut.key]
+            try:
+                out[i] = fut.result()
+            except Exception as err:  # noqa: BLE001 - worker lost, unpicklable result...
+                out[i] = {"omega_rpm": omegas[i], "ok": False, "error": f"{type(err).__name__}: {err}"}
+            bar.update(1)
+        bar.close()
+        return out  # type: ignore[return-value]
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _bar(total: int, enabled: bool) -> Any:
+    from tqdm import tqdm
+
+    return tqdm(total=total, disable=not enabled, desc="omega sweep", unit="pt", leave=False)
+
+
+def sweep_omega(
+    scenario: Any,
+    kind: str,
+    omega_rpm: Sequence[float],
+    *,
+    lam: float | None = None,
+    parallel: bool = True,
+    scheduler_address: str | None = None,
+    n_workers: int | None = None,
+    progress: bool = True,
+) -> SweepResult:
+    """Steady states of ``scenario`` with force model ``kind`` at each ``omega_rpm`` (RPM).
+
+    Parameters
+    ----------
+    scenario : LocomotorScenario.
+    kind : "rft", "drft-inertial" or "drft" (must be in ``scenario.supported_models``).
+    omega_rpm : RPM; a non-positive or non-finite entry gives an error record for that point.
+    lam : overrides the scenario's lambda.
+    parallel : run on Dask (default) or in a plain loop.
+    scheduler_address : address of an existing Dask scheduler (e.g. "tcp://host:8786");
+        None starts a LocalCluster of ``n_workers`` processes (default: one per core).
+    progress : show a tqdm progress bar.
+    """
+    omegas = [float(w) for w in omega_rpm]
+    if not omegas:
+        raise InputError("omega_rpm is empty: give at least one angular velocity")
+    if kind not in scenario.supported_models:
+        raise InputError(f"scenario {scenario.name!r} supports {list(scenario.supported_models)}, got {kind!r}")
+    if parallel:
+        records = _run_dask(scenario, kind, omegas, lam, scheduler_address, n_workers, progress)
+    else:
+        bar = _bar(len(omegas), progress)
+        records = []
+        for w in omegas:
+            records.append(sweep_point(scenario, kind, w, lam))
+            bar.update(1)
+        bar.close()
+    return SweepResult(scenario.name, kind, lam, records, meta={"parallel": parallel})

@@ -1,0 +1,370 @@
+"""Rigid-body locomotion dynamics: a driven body free to translate in x and z (SPEC section 4).
+
+The body turns at a PRESCRIBED angular velocity omega(t) (ramped linearly from rest to the
+target over ``ramp_time``), and its centre moves under
+
+    m_x dvx/dt = F_x(state) + F_ext,x
+    m_z dvz/dt = F_z(state) + F_ext,z - m_z g
+
+with F the granular force of any force model (``wrench_tuple`` or ``wrench``). The weight is
+taken as m_z g: the paper's rig has separate effective horizontal and vertical inertias (Table S1:
+23.0 kg and 6.3 kg for the wheel) and its vertical load is set by weights and pulleys, so the
+vertical inertia is also the mass that gravity acts on.
+
+Integrator ("implicit iterative scheme", paper, Methods): backward Euler on the velocity,
+
+    G(v) = v - v_n - dt M^-1 (F(x_n + dt v_x, z_n + dt v_z, theta_{n+1}, v, omega_{n+1}) + F_ext + W) = 0,
+
+solved by a damped Newton iteration with a finite-difference 2 x 2 Jacobian dF/dv (which, through
+x = x_n + dt v, also carries dF/dz). theta follows the prescribed omega exactly (trapezoidal
+rule on the piecewise-linear ramp). RFT forces are stiff in depth and strongly damping in the
+velocity direction; backward Euler is unconditionally stable for that linearised system, so the
+time step is set by accuracy, not stability. A plain explicit Euler scheme is kept as the
+reference (and to show what instability looks like).
+
+Failures (non-finite state, runaway speed or depth, Newton not converging) raise
+:class:`IntegratorError` with the time, the step and the advice to reduce ``dt``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Literal
+
+import numpy as np
+
+from intrusim._checks import InputError, finite, non_negative, positive, positive_int
+from intrusim.kinematics import BodyState
+from intrusim.params import GRAVITY
+
+ForceFn = Callable[[float, float, float, float, float, float], tuple[float, float, float]]
+
+
+class IntegratorError(RuntimeError):
+    """The time integration failed (non-finite values, divergence, Newton not converged)."""
+
+
+@dataclass(frozen=True)
+class Drive:
+    """Prescribed angular velocity: a linear ramp from rest to ``omega`` over ``ramp_time``.
+
+    Attributes
+    ----------
+    omega : float, rad/s. Target angular velocity, counter-clockwise (< 0 rolls towards +x).
+    ramp_time : float, s. Duration of the ramp (0 = instantaneous start).
+    """
+
+    omega: float
+    ramp_time: float = 0.5
+
+    def __post_init__(self) -> None:
+        finite("omega", self.omega)
+        non_negative("ramp_time", self.ramp_time)
+
+    def omega_at(self, t: float) -> float:
+        """omega(t), rad/s."""
+        if self.ramp_time <= 0.0 or t >= self.ramp_time:
+            return self.omega
+        return self.omega * max(t, 0.0) / self.ramp_time
+
+    def angle_at(self, t: float) -> float:
+        """Exact integral of omega from 0 to t, rad."""
+        if self.ramp_time <= 0.0:
+            return self.omega * t
+        if t <= self.ramp_time:
+            return 0.5 * self.omega * max(t, 0.0) ** 2 / self.ramp_time
+        return self.omega * (t - 0.5 * self.ramp_time)
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """Effective inertias and loads of a body free to translate in x and z.
+
+    Attributes
+    ----------
+    mass_x : float, kg. Effective horizontal inertia.
+    mass_z : float, kg. Effective vertical inertia; the weight is mass_z * gravity.
+    gravity : float, m/s^2.
+    external_fx, external_fz : float, N. Constant external force (e.g. the MPM wheel's 4 N push).
+    """
+
+    mass_x: float
+    mass_z: float
+    gravity: float = GRAVITY
+    external_fx: float = 0.0
+    external_fz: float = 0.0
+
+    def __post_init__(self) -> None:
+        positive("mass_x", self.mass_x)
+        positive("mass_z", self.mass_z)
+        non_negative("gravity", self.gravity)
+        finite("external_fx", self.external_fx)
+        finite("external_fz", self.external_fz)
+
+    @property
+    def weight(self) -> float:
+        """m_z g, N."""
+        return self.mass_z * self.gravity
+
+
+@dataclass(frozen=True)
+class IntegratorSettings:
+    """Time-stepping controls.
+
+    Attributes
+    ----------
+    dt : float, s. Time step.
+    scheme : "implicit" (backward Euler + Newton, default) or "explicit" (forward Euler).
+    max_iter : int. Newton iterations per step before giving up.
+    velocity_tol : float, m/s. Newton stops when the velocity update is below this.
+    fd_step : float, m/s. Finite-difference step of the Jacobian dF/dv.
+    max_speed : float, m/s. A centre speed above this is treated as divergence.
+    max_depth : float, m. The reference point sinking more than this below the surface is
+        treated as divergence (the medium cannot carry the body, or dt is far too large).
+    force_tol_rel : float. RFT forces jump where an element switches on or off (leading-edge
+        rule), so a step may have no exact root. A Newton iteration that stalls is accepted if
+        its force imbalance is below force_tol_rel * max(weight, |F_ext|, 1 N).
+    stall_iter : int. Successive poorly contracting iterations that count as a stall.
+    contraction : float. An iteration that does not reduce |G| by this factor contracts poorly
+        (the reused Jacobian is then refreshed).
+    max_backtrack : int. Step halvings of the damped Newton update.
+    """
+
+    dt: float = 2e-3
+    scheme: Literal["implicit", "explicit"] = "implicit"
+    max_iter: int = 40
+    velocity_tol: float = 1e-7
+    fd_step: float = 1e-6
+    max_speed: float = 50.0
+    max_depth: float = 2.0
+    force_tol_rel: float = 5e-2
+    stall_iter: int = 3
+    contraction: float = 0.5
+    max_backtrack: int = 6
+
+    def __post_init__(self) -> None:
+        positive("dt", self.dt)
+        if self.scheme not in ("implicit", "explicit"):
+            raise InputError(f"scheme must be 'implicit' or 'explicit', got {self.scheme!r}")
+        positive_int("max_iter", self.max_iter)
+        positive("velocity_tol", self.velocity_tol)
+        positive("fd_step", self.fd_step)
+        positive("max_speed", self.max_speed)
+        positive("max_depth", self.max_depth)
+        positive("force_tol_rel", self.force_tol_rel)
+        positive_int("stall_iter", self.stall_iter)
+        if not 0.0 < self.contraction < 1.0:
+            raise InputError(f"contraction must be in (0, 1), got {self.contraction!r}")
+        positive_int("max_backtrack", self.max_backtrack)
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Time series of a simulation, one entry per step (arrays of length n_steps + 1).
+
+    Units: t s; x, z m; theta rad; vx, vz m/s; omega rad/s; fx, fz N (granular force only);
+    moment N m (granular, about the centre); iterations: Newton iterations of the step.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    z: np.ndarray
+    theta: np.ndarray
+    vx: np.ndarray
+    vz: np.ndarray
+    omega: np.ndarray
+    fx: np.ndarray
+    fz: np.ndarray
+    moment: np.ndarray
+    iterations: np.ndarray
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def concatenate(self, other: "Trajectory") -> "Trajectory":
+        """This trajectory followed by ``other`` (which starts at this one's last state)."""
+        names = ("t", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment", "iterations")
+        joined = {k: np.concatenate([getattr(self, k), getattr(other, k)[1:]]) for k in names}
+        return Trajectory(meta=dict(self.meta), **joined)
+
+    def state(self, i: int) -> BodyState:
+        return BodyState(self.x[i], self.z[i], self.theta[i], self.vx[i], self.vz[i], self.omega[i])
+
+
+def force_function(model: Any) -> ForceFn:
+    """The fastest (fx, fz, moment) callable a force model offers (``wrench_tuple`` or ``wrench``)."""
+    if hasattr(model, "wrench_tuple"):
+        return model.wrench_tuple
+    if hasattr(model, "wrench"):
+
+        def fn(x: float, z: float, th: float, vx: float, vz: float, om: float) -> tuple[float, float, float]:
+            w = model.wrench(BodyState(x, z, th, vx, vz, om))
+            return w.fx, w.fz, w.moment
+
+        return fn
+    if callable(model):
+        return model
+    raise InputError("force model must have wrench_tuple(...) or wrench(state), or be a callable")
+
+
+def _fail(msg: str, t: float, settings: IntegratorSettings) -> IntegratorError:
+    return IntegratorError(
+        f"{msg} at t = {t:.4g} s with dt = {settings.dt:g} s ({settings.scheme} scheme); "
+        f"try a smaller time step (e.g. dt = {settings.dt / 4:g} s)"
+    )
+
+
+def _implicit_step(
+    force: ForceFn, x0: float, z0: float, th1: float, vx0: float, vz0: float, om1: float,
+    dt: float, ax_ext: float, az_ext: float, inv_mx: float, inv_mz: float, s: IntegratorSettings, t: float,
+    g_tol: float, jac: list[float],
+) -> tuple[float, float, float, float, float, int]:  # fmt: skip
+    """One backward-Euler step; returns (vx1, vz1, fx, fz, moment, iterations).
+
+    Modified Newton: the finite-difference Jacobian ``jac`` = [j11, j12, j21, j22] of G is kept
+    from step to step (updated in place) and recomputed only when an iteration contracts poorly.
+    """
+    vx, vz = vx0, vz0
+    h = s.fd_step
+
+    def residual(vx: float, vz: float) -> tuple[float, float, float, float, float]:
+        fx, fz, m = force(x0 + dt * vx, z0 + dt * vz, th1, vx, vz, om1)
+        return vx - vx0 - dt * (fx * inv_mx + ax_ext), vz - vz0 - dt * (fz * inv_mz + az_ext), fx, fz, m
+
+    gx, gz, fx, fz, m = residual(vx, vz)
+    norm = math.hypot(gx, gz)
+    best = (norm, vx, vz, fx, fz, m)
+    stall = 0
+    refreshed = -1  # iteration of the last Jacobian refresh
+    for it in range(1, s.max_iter + 1):
+        if not jac or (stall > 0 and refreshed < it - 1):
+            # Jacobian of G by forward differences (G is piecewise smooth: elements switch on/off).
+            gx1, gz1, *_ = residual(vx + h, vz)
+            gx2, gz2, *_ = residual(vx, vz + h)
+            jac[:] = [(gx1 - gx) / h, (gx2 - gx) / h, (gz1 - gz) / h, (gz2 - gz) / h]
+            refreshed = it
+        j11, j12, j21, j22 = jac
+        det = j11 * j22 - j12 * j21
+        if not math.isfinite(det) or det == 0.0:
+            raise _fail("singular Newton Jacobian", t, s)
+        dvx = -(j22 * gx - j12 * gz) / det
+        dvz = -(-j21 * gx + j11 * gz) / det
+        norm0 = norm
+        step = 1.0
+        for _ in range(s.max_backtrack):  # backtracking: accept the first step that reduces |G|
+            nx, nz = vx + step * dvx, vz + step * dvz
+            ngx, ngz, nfx, nfz, nm = residual(nx, nz)
+            if math.hypot(ngx, ngz) < norm0:
+                break
+            step *= 0.5
+        if not (math.isfinite(nx) and math.isfinite(nz) and math.isfinite(ngx) and math.isfinite(ngz)):
+            raise _fail("non-finite velocity in the Newton iteration", t, s)
+        update = step * math.hypot(dvx, dvz)
+        vx, vz, gx, gz, fx, fz, m = nx, nz, ngx, ngz, nfx, nfz, nm
+        norm = math.hypot(gx, gz)
+        if update <= s.velocity_tol:
+            return vx, vz, fx, fz, m, it
+        if norm < best[0]:
+            best = (norm, vx, vz, fx, fz, m)
+        if norm > s.contraction * norm0:
+            stall += 1  # poor contraction: refresh the Jacobian (once), then count stalls
+        else:
+            stall = 0
+        # The force is discontinuous where an element switches (leading-edge rule), so G may have
+        # no exact root: accept the best iterate once it stalls within the residual tolerance.
+        if stall >= s.stall_iter and best[0] <= g_tol:
+            return best[1], best[2], best[3], best[4], best[5], it
+    if best[0] <= g_tol:
+        return best[1], best[2], best[3], best[4], best[5], s.max_iter
+    raise _fail(
+        f"Newton iteration did not converge in {s.max_iter} iterations (|G| = {best[0]:.3g} m/s, "
+        f"tolerance {g_tol:.3g} m/s)", t, s
+    )
+
+
+def simulate(
+    model: Any,
+    body: RigidBody,
+    drive: Drive,
+    initial: BodyState,
+    duration: float,
+    settings: IntegratorSettings | None = None,
+    t0: float = 0.0,
+) -> Trajectory:
+    """Integrate the driven body for ``duration`` seconds from ``initial`` at time ``t0``.
+
+    Parameters
+    ----------
+    model : force model with ``wrench_tuple(x, z, theta, vx, vz, omega)`` or ``wrench(state)``,
+        or a callable with the signature of ``wrench_tuple``.
+    body : effective inertias, gravity and external force.
+    drive : prescribed omega(t); ``initial.omega`` is ignored (omega(0) comes from the drive).
+    initial : state at t = 0 (x, z of the reference point, m; theta, rad; vx, vz, m/s).
+    duration : float, s.
+    settings : time step and scheme.
+    t0 : float, s. Start time (the drive's clock), to continue a run from its last state.
+
+    Returns
+    -------
+    Trajectory with n = ceil(duration / dt) steps.
+
+    Raises
+    ------
+    IntegratorError if the integration diverges or the Newton iteration fails.
+    """
+    s = settings or IntegratorSettings()
+    duration = positive("duration", duration)
+    force = force_function(model)
+    dt = s.dt
+    n = int(math.ceil(duration / dt - 1e-9))
+    t0 = finite("t0", t0)
+    t = t0 + np.arange(n + 1) * dt
+    out = {k: np.empty(n + 1) for k in ("x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")}
+    iters = np.zeros(n + 1, dtype=np.int32)
+    inv_mx, inv_mz = 1.0 / body.mass_x, 1.0 / body.mass_z
+    ax_ext = body.external_fx * inv_mx
+    az_ext = body.external_fz * inv_mz - body.gravity
+    x, z, vx, vz = float(initial.x), float(initial.z), float(initial.vx), float(initial.vz)
+    th0 = float(initial.theta)
+    om = drive.omega_at(t0)
+    angle0 = drive.angle_at(t0)
+    fx, fz, m = force(x, z, th0, vx, vz, om)
+    surface = getattr(model, "surface_z", 0.0)
+    # residual tolerance of a stalled Newton iteration, as a velocity: dt * force_tol / m
+    g_tol = dt * s.force_tol_rel * max(body.weight, abs(body.external_fx), abs(body.external_fz), 1.0) * max(inv_mx, inv_mz)
+    cols = (out["x"], out["z"], out["theta"], out["vx"], out["vz"], out["omega"], out["fx"], out["fz"], out["moment"])
+    for c, v in zip(cols, (x, z, th0, vx, vz, om, fx, fz, m)):
+        c[0] = v
+    jac: list[float] = []  # Newton Jacobian, reused across steps
+    for i in range(1, n + 1):
+        ti = float(t[i])
+        om1 = drive.omega_at(ti)
+        th1 = th0 + (drive.angle_at(ti) - angle0)
+        if s.scheme == "implicit":
+            vx1, vz1, fx, fz, m, it = _implicit_step(
+                force, x, z, th1, vx, vz, om1, dt, ax_ext, az_ext, inv_mx, inv_mz, s, ti, g_tol, jac
+            )  # fmt: skip
+            x, z, vx, vz = x + dt * vx1, z + dt * vz1, vx1, vz1
+        else:
+            vx1 = vx + dt * (fx * inv_mx + ax_ext)
+            vz1 = vz + dt * (fz * inv_mz + az_ext)
+            x, z, vx, vz = x + dt * vx, z + dt * vz, vx1, vz1
+            fx, fz, m = force(x, z, th1, vx, vz, om1)
+            it = 0
+        if not (math.isfinite(x) and math.isfinite(z) and math.isfinite(vx) and math.isfinite(vz)):
+            raise _fail("non-finite state", ti, s)
+        if math.hypot(vx, vz) > s.max_speed:
+            raise _fail(f"speed {math.hypot(vx, vz):.3g} m/s exceeds max_speed = {s.max_speed:g} m/s (divergence)", ti, s)
+        if z < surface - s.max_depth:
+            raise _fail(
+                f"body sank {surface - z:.3g} m below the surface (max_depth = {s.max_depth:g} m): the medium "
+                "does not carry the body, or the integration diverged",
+                ti,
+                s,
+            )
+        for c, v in zip(cols, (x, z, th1, vx, vz, om1, fx, fz, m)):
+            c[i] = v
+        iters[i] = it
+    return Trajectory(t=t, iterations=iters, meta={"dt": dt, "scheme": s.scheme}, **out)
+
+
+__all__ = ["Drive", "RigidBody", "IntegratorSettings", "IntegratorError", "Trajectory", "simulate", "force_function"]

@@ -1,0 +1,154 @@
+"""Reproduce the paper's RFT / DRFT figures: PNG plus the CSV of the plotted numbers.
+
+One function per figure, each ``fig(out_dir, quick=False, parallel=True) -> list[Path]``;
+``intrusim reproduce NAME`` calls them. Axes are non-dimensional as in the paper (Fig 3):
+v / sqrt(g l), sinkage / l, omega / omega_0 with omega_0 = sqrt(g / l) and l the outer diameter.
+``quick`` uses a coarse omega grid and one averaging revolution.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from intrusim.analysis.plates import fit_static_plus_inertial  # noqa: E402
+from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
+from intrusim.scenarios import (  # noqa: E402
+    LocomotorScenario,
+    drag_force_table,
+    four_flap_runner_scenario,
+    grousered_wheel_scenario,
+    plate_drag_scenario,
+    small_wheel_scenario,
+)
+
+WHEEL_RPM = np.arange(10.0, 91.0, 10.0)  # Fig 4-5, S1: 10-90 RPM
+WHEEL_RPM_QUICK = np.array([10.0, 30.0, 60.0, 90.0])
+RUNNER_RPM = np.array([10, 25, 50, 75, 100, 125, 150, 200, 250, 300], float)  # Fig 7: 10-300 RPM
+RUNNER_RPM_QUICK = np.array([10.0, 50.0, 100.0, 200.0, 300.0])
+RPM = 2 * np.pi / 60
+
+
+def _quick(s: LocomotorScenario, quick: bool) -> LocomotorScenario:
+    if quick:
+        s = s.model_copy(deep=True)
+        s.run.average_revolutions = 1
+    return s
+
+
+def _curves(
+    cases: Sequence[tuple[str, LocomotorScenario, str, float | None]], rpm: np.ndarray, parallel: bool
+) -> list[tuple[str, LocomotorScenario, SweepResult]]:
+    return [(label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=parallel, progress=False)) for label, s, kind, lam in cases]
+
+
+def _write(
+    out: Path, name: str, curves: list[tuple[str, LocomotorScenario, SweepResult]], title: str
+) -> list[Path]:
+    out.mkdir(parents=True, exist_ok=True)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.6))
+    rows: list[dict[str, Any]] = []
+    for label, s, res in curves:
+        w = res.omega_rpm * RPM / s.omega_0
+        v = res.column("velocity") / s.velocity_scale
+        h = res.column("sinkage") / s.length_scale
+        a1.plot(w, v, "o-", label=label, ms=3)
+        a2.plot(w, h, "o-", label=label, ms=3)
+        for r, wi, vi, hi in zip(res.records, w, v, h):
+            rows.append({
+                "curve": label, "scenario": s.name, "model": res.kind, "lambda": res.lam if res.lam is not None else s.force_model.lam,
+                "omega_rpm": r["omega_rpm"], "omega_over_omega0": wi, "v_over_sqrt_gl": vi, "sinkage_over_l": hi,
+                "velocity_m_s": r.get("velocity", np.nan), "sinkage_m": r.get("sinkage", np.nan), "slip": r.get("slip", np.nan),
+                "length_scale_m": s.length_scale, "error": r.get("error", ""),
+            })  # fmt: skip
+    a1.set(xlabel=r"$\omega/\omega_0$", ylabel=r"$v/\sqrt{g\ell}$")
+    a2.set(xlabel=r"$\omega/\omega_0$", ylabel=r"sinkage$/\ell$")
+    a1.legend(fontsize=7)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    png, csv_path = out / f"{name}.png", out / f"{name}.csv"
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+    _csv(csv_path, rows)
+    return [png, csv_path]
+
+
+def _csv(path: Path, rows: list[dict[str, Any]]) -> None:
+    with path.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def fig4b(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+    """Fig 4B: wheel, RFT + inertial correction only, lambda in {0, 1, 25, 50, 100}."""
+    s = _quick(grousered_wheel_scenario(), quick)
+    lams = (0.0, 25.0, 100.0) if quick else (0.0, 1.0, 25.0, 50.0, 100.0)
+    cases = [(f"lambda={lam:g}", s, "drft-inertial", lam) for lam in lams]
+    rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
+    return _write(out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)")
+
+
+def fig5ab(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+    """Fig 5A-B: wheel, RFT vs DRFT vs DRFT without the structural correction (lambda = 1)."""
+    s = _quick(grousered_wheel_scenario(), quick)
+    cases = [("RFT", s, "rft", None), ("DRFT", s, "drft", None), ("DRFT, inertial only", s, "drft-inertial", None)]
+    rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
+    return _write(out, "fig5ab", _curves(cases, rpm, parallel), "Fig 5A-B: grousered wheel (Table S1)")
+
+
+def fig7bc(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+    """Fig 7B-C: four-flap runner, DRFT (inertial correction only), lambda in {0, 2, 4}."""
+    s = _quick(four_flap_runner_scenario(), quick)
+    cases = [(f"DRFT lambda={lam:g}", s, "drft", lam) for lam in (0.0, 2.0, 4.0)]
+    rpm = RUNNER_RPM_QUICK if quick else RUNNER_RPM
+    return _write(out, "fig7bc", _curves(cases, rpm, parallel), "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
+
+
+def figs1(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+    """Fig S1: DRFT for the Table S1 wheel and the half-size wheel (each with its own l)."""
+    cases = [("wheel D=212 mm", _quick(grousered_wheel_scenario(), quick), "drft", None),
+             ("small wheel D=106 mm", _quick(small_wheel_scenario(), quick), "drft", None)]  # fmt: skip
+    rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
+    return _write(out, "figs1", _curves(cases, rpm, parallel), "Fig S1: DRFT, two wheel sizes")
+
+
+def fig6a(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+    """Fig 6A: DRFT drag on a vertical plate vs speed at 20/30/40 mm; fit K|z| + lambda rho A v^2."""
+    s = plate_drag_scenario()
+    s = s.model_copy(update={"speeds": list(np.geomspace(0.04, 0.64, 5 if quick else 9))})
+    force = drag_force_table(s, "drft")
+    K, lam = fit_static_plus_inertial(np.array(s.depths), np.array(s.speeds), force, s.force_model.rho, s.area)
+    out.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(4.8, 3.6))
+    vv = np.linspace(0.0, max(s.speeds), 100)
+    rows = []
+    for i, d in enumerate(s.depths):
+        (line,) = ax.plot(s.speeds, force[i], "o", label=f"DRFT |z| = {d * 1e3:.0f} mm")
+        ax.plot(vv, K * d + lam * s.force_model.rho * s.area * vv**2, ":", color=line.get_color())
+        if s.paper_K is not None and s.paper_lambda is not None:
+            ax.plot(vv, s.paper_K * d + s.paper_lambda * s.force_model.rho * s.area * vv**2, "-", lw=0.6, color=line.get_color())
+        for j, v in enumerate(s.speeds):
+            rows.append({"depth_m": d, "speed_m_s": v, "force_N_per_m": force[i, j], "fit_K_N_per_m": K, "fit_lambda": lam,
+                         "paper_K_N_per_m": s.paper_K, "paper_lambda": s.paper_lambda, "rho": s.force_model.rho,
+                         "area_m2": s.area})  # fmt: skip
+    ax.set(xlabel="drag speed v (m/s)", ylabel="drag force per metre width (N/m)",
+           title=f"Fig 6A: fit K = {K:.0f} N/m, lambda = {lam:.2f} (paper MPM: 580, 1.1; thin lines)")  # fmt: skip
+    ax.title.set_fontsize(7)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    png, csv_path = out / "fig6a.png", out / "fig6a.csv"
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+    _csv(csv_path, rows)
+    return [png, csv_path]
+
+
+FIGURES: dict[str, Callable[..., list[Path]]] = {"fig4b": fig4b, "fig5ab": fig5ab, "fig7bc": fig7bc, "figs1": figs1, "fig6a": fig6a}

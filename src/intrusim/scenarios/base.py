@@ -1,0 +1,137 @@
+"""Pieces shared by the scenario configs: force-model settings, run control, TOML loading.
+
+Scenarios are data: pydantic v2 models, validated on construction, loadable from TOML
+(``from_toml(path)``). The shipped defaults are built from :func:`intrusim.params.table_s1`, the
+single source of truth for the paper's numbers.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from intrusim._checks import InputError
+from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
+from intrusim.geometry import Shape
+
+ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
+
+
+class Config(BaseModel):
+    """Base of every config: unknown keys are errors, values are validated on assignment."""
+
+    model_config = ConfigDict(extra="forbid", validate_assignment=True, frozen=False)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "Config":
+        """Load and validate a config from a TOML file (errors name the offending field)."""
+        p = Path(path)
+        if not p.is_file():
+            raise InputError(f"scenario file not found: {p}")
+        with p.open("rb") as f:
+            try:
+                data = tomllib.load(f)
+            except tomllib.TOMLDecodeError as err:
+                raise InputError(f"{p}: invalid TOML ({err})") from None
+        return cls.from_dict(data, source=str(p))
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], source: str = "config") -> "Config":
+        try:
+            return cls.model_validate(data)
+        except ValidationError as err:
+            raise InputError(f"{source}: invalid {cls.__name__}:\n{err}") from None
+
+
+class ForceModelConfig(Config):
+    """Parameters of the RFT / DRFT force model (paper, Eqs. 3-4).
+
+    Attributes
+    ----------
+    xi : media scaling coefficient of the Li (2013) fit (poppy seeds 0.35, Table S1).
+    rho : media density of the inertial correction, kg/m^3 (rho_c = 638 for poppy seeds).
+    lam : lambda of the inertial correction (wheel 1; runner 0, 2 or 4; plate drag 1.1).
+    structural : dynamic structural correction: "wheel-rear-half" (wheels) or "none".
+    """
+
+    xi: float = Field(0.35, ge=0.0)
+    rho: float = Field(638.0, ge=0.0)
+    lam: float = Field(1.0, ge=0.0)
+    structural: Literal["none", "wheel-rear-half"] = "none"
+
+
+class RunConfig(Config):
+    """Time integration and steady-state window of a locomotion run.
+
+    The run lasts ramp_time + settle_time + average_revolutions * (2 pi / omega); the steady
+    state is the average over the last ``average_revolutions`` whole revolutions (so a
+    non-round body, whose long-time motion is a limit cycle, is averaged over whole cycles).
+
+    Attributes
+    ----------
+    ramp_time : s, linear spin-up of omega from rest.
+    settle_time : s, extra time after the ramp for transients to decay (RFT has no memory; the
+        slowest transient is the horizontal one, m_x / (dF_x/dv_x), a fraction of a second).
+    average_revolutions : whole revolutions averaged over (>= 1).
+    dt_max : s, largest time step.
+    steps_per_revolution : the step is also at most one revolution / steps_per_revolution.
+    initial_sinkage : m, initial depth of the lowest outline point (0 = resting on the surface).
+    drift_tol : the run is extended by ``average_revolutions`` more revolutions while the window's
+        drift (relative change of mean speed, or of mean sinkage over the radius, between its two
+        halves) exceeds this.
+    max_extensions : most extensions before giving up (the result is then flagged unsettled).
+    """
+
+    ramp_time: float = Field(0.5, ge=0.0)
+    settle_time: float = Field(1.5, ge=0.0)
+    average_revolutions: int = Field(2, ge=1)
+    dt_max: float = Field(0.01, gt=0.0)
+    steps_per_revolution: int = Field(100, ge=8)
+    initial_sinkage: float = Field(0.0, ge=0.0)
+    drift_tol: float = Field(5e-4, gt=0.0)
+    max_extensions: int = Field(20, ge=0)
+
+    def period(self, omega: float) -> float:
+        """One revolution at |omega| rad/s, s."""
+        return 2.0 * math.pi / abs(omega)
+
+    def duration(self, omega: float) -> float:
+        """Total simulated time at |omega| rad/s, s."""
+        return self.ramp_time + self.settle_time + self.average_revolutions * self.period(omega)
+
+    def dt(self, omega: float) -> float:
+        """Time step at |omega| rad/s, s."""
+        return min(self.dt_max, self.period(omega) / self.steps_per_revolution)
+
+
+class ModelKindsMixin(Config):
+    """Which force-model kinds a scenario supports, and how to build its model."""
+
+    supported_models: tuple[str, ...] = ALL_KINDS
+    force_model: ForceModelConfig = Field(default_factory=ForceModelConfig)
+
+    @model_validator(mode="after")
+    def _kinds_known(self) -> "ModelKindsMixin":
+        bad = [k for k in self.supported_models if k not in ALL_KINDS]
+        if bad:
+            raise ValueError(f"unknown force-model kinds {bad}; known: {list(ALL_KINDS)}")
+        return self
+
+    def rft_shape(self) -> Shape:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def build_model(self, kind: ModelKind, lam: float | None = None) -> ResistiveForceModel:
+        """The force model of ``kind`` with this scenario's parameters (``lam`` overrides lambda)."""
+        if kind not in self.supported_models:
+            raise InputError(
+                f"scenario {getattr(self, 'name', '?')!r} supports force models {list(self.supported_models)}, got {kind!r}"
+            )
+        fm = self.force_model
+        lam_v = fm.lam if lam is None else lam
+        if lam_v < 0 or not math.isfinite(lam_v):
+            raise InputError(f"lambda must be a finite number >= 0, got {lam!r}")
+        return make_force_model(kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural)

@@ -1,0 +1,190 @@
+"""Self-propelled locomotors: the grousered wheel, the small wheel (Fig S1), the four-flap runner.
+
+All three are a circular hub with rectangular lugs (grousers or flaps), driven at a prescribed
+omega and free to translate in x and z (SPEC section 4). One config class,
+:class:`LocomotorScenario`, holds the geometry, the effective inertias, the force-model
+parameters and the run control; the shipped defaults come from Table S1
+(:func:`intrusim.params.table_s1`):
+
+* :func:`grousered_wheel_scenario`: Table S1 wheel; m_x = 23.0 kg, m_z = 6.3 kg; DRFT with
+  xi = 0.35, rho = rho_c = 638 kg/m^3, lambda = 1, structural correction on the rear half of the
+  contact arc; grouser elements at 1/3 of the true height (shadowing, paper Methods). The MPM
+  runs' constant 4 N forward push compensates rig friction in MPM only, so RFT/DRFT use 0 N.
+* :func:`small_wheel_scenario`: Fig S1, every length of the wheel halved, the out-of-plane width
+  included. The paper keeps rho_wheel / rho_c (and mu_s, h_g / D, N) fixed, so the wheel's mass
+  scales with its volume: both inertias x (1/2)^3 = 1/8 (2.875 kg and 0.7875 kg). RFT forces
+  scale the same way (alpha |z| dA ~ L^3), so the scaled wheel is dynamically similar except
+  for the rate terms (r omega^2 / g and rho v^2), which is what Fig S1 tests.
+* :func:`four_flap_runner_scenario`: Table S1 runner, m = 10.5 kg in x and z, W = 1 m, no
+  structural correction, lambda in {0, 2, 4} (Fig 7). The paper's statement that the mass
+  ratio m / (rho_c l^2 W) is ~6 does not hold for these numbers: 10.5 / (638 x 0.190^2 x 1)
+  = 0.46. We keep 10.5 kg as printed (Table S1) and record the inconsistency in
+  docs/locomotion.md.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from intrusim._checks import InputError, finite
+from intrusim.bodies import Drive, RigidBody
+from intrusim.geometry import Shape, hub_with_lugs
+from intrusim.kinematics import BodyState
+from intrusim.params import table_s1
+from intrusim.scenarios.base import ALL_KINDS, Config, ForceModelConfig, ModelKindsMixin, RunConfig
+
+
+def _deep_merge(base: dict[str, Any], update: dict[str, Any]) -> dict[str, Any]:
+    out = dict(base)
+    for k, v in update.items():
+        out[k] = _deep_merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
+    return out
+
+
+class LocomotorScenario(ModelKindsMixin):
+    """A driven hub-with-lugs body free to translate in x and z.
+
+    Attributes (SI)
+    ---------------
+    name : label.
+    body : "wheel" or "runner" (which shipped defaults a partial TOML file is merged onto).
+    hub_diameter : m, inner (hub) diameter.
+    lug_height, lug_width : m, true grouser / flap size (radial length, thickness).
+    lug_count : number of lugs.
+    width : m, out-of-plane width W (element area = length x W).
+    lug_height_scale : RFT element height / true lug height (grouser shadowing: 1/3 for the
+        wheel; 1 for the runner's flaps). Sinkage always uses the TRUE outline.
+    hub_elements_per_segment, lug_elements_per_face : RFT discretisation.
+    mass_x, mass_z : kg, effective horizontal / vertical inertia; weight = mass_z * gravity.
+    gravity : m/s^2.
+    external_fx : N, constant forward force.
+    length_scale : m, l of the non-dimensional axes (outer diameter; Table S1).
+    """
+
+    name: str
+    body: Literal["wheel", "runner"]
+    hub_diameter: float = Field(gt=0.0)
+    lug_height: float = Field(gt=0.0)
+    lug_width: float = Field(gt=0.0)
+    lug_count: int = Field(ge=1)
+    width: float = Field(gt=0.0)
+    lug_height_scale: float = Field(1.0, gt=0.0, le=1.0)
+    hub_elements_per_segment: int = Field(14, ge=1)
+    lug_elements_per_face: int = Field(8, ge=1)
+    mass_x: float = Field(gt=0.0)
+    mass_z: float = Field(gt=0.0)
+    gravity: float = Field(gt=0.0)
+    external_fx: float = 0.0
+    length_scale: float = Field(gt=0.0)
+    run: RunConfig = Field(default_factory=RunConfig)
+
+    @model_validator(mode="after")
+    def _geometry_fits(self) -> "LocomotorScenario":
+        self.rft_shape()  # raises InputError (a ValueError) if the lugs overlap
+        return self
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], source: str = "config") -> "LocomotorScenario":
+        """Validate ``data`` merged onto the shipped defaults of ``data['body']`` (default wheel)."""
+        body = data.get("body", "wheel")
+        if body not in DEFAULTS:
+            raise InputError(f"{source}: body must be one of {list(DEFAULTS)}, got {body!r}")
+        base = DEFAULTS[body]().model_dump()
+        return super().from_dict(_deep_merge(base, data), source)  # type: ignore[return-value]
+
+    # --- geometry -------------------------------------------------------------------------
+    def _shape(self, scale: float) -> Shape:
+        return hub_with_lugs(
+            0.5 * self.hub_diameter, self.lug_height, self.lug_width, self.lug_count, self.width,
+            hub_elements_per_segment=self.hub_elements_per_segment,
+            lug_elements_per_face=self.lug_elements_per_face, lug_height_scale=scale, name=self.name,
+        )  # fmt: skip
+
+    def rft_shape(self) -> Shape:
+        """Shape whose elements RFT sees (lugs at lug_height_scale); polygon = true outline."""
+        return self._shape(self.lug_height_scale)
+
+    @property
+    def radius(self) -> float:
+        """Nominal (outer) radius r = hub radius + true lug height, m: the r of slip and dh."""
+        return 0.5 * self.hub_diameter + self.lug_height
+
+    # --- dynamics -------------------------------------------------------------------------
+    def rigid_body(self) -> RigidBody:
+        return RigidBody(self.mass_x, self.mass_z, self.gravity, self.external_fx, 0.0)
+
+    def drive(self, omega_rpm: float) -> Drive:
+        """Forward rolling (towards +x) at ``omega_rpm`` > 0: omega = -omega_rpm 2 pi / 60 rad/s."""
+        w = finite("omega_rpm", omega_rpm)
+        if w <= 0.0:
+            raise InputError(f"omega_rpm must be > 0 (forward rolling), got {omega_rpm!r}")
+        return Drive(-w * 2.0 * math.pi / 60.0, self.run.ramp_time)
+
+    def initial_state(self, shape: Shape | None = None) -> BodyState:
+        """At rest, lowest TRUE outline point ``run.initial_sinkage`` below the surface z = 0."""
+        shp = shape or self.rft_shape()
+        lowest = float(np.min(shp.polygon[:, 1]))
+        return BodyState(0.0, -lowest - self.run.initial_sinkage, 0.0, 0.0, 0.0, 0.0)
+
+    # --- non-dimensional scales (paper Fig 3) ----------------------------------------------
+    @property
+    def velocity_scale(self) -> float:
+        """sqrt(g l), m/s."""
+        return math.sqrt(self.gravity * self.length_scale)
+
+    @property
+    def omega_0(self) -> float:
+        """sqrt(g / l), rad/s."""
+        return math.sqrt(self.gravity / self.length_scale)
+
+
+def grousered_wheel_scenario() -> LocomotorScenario:
+    """The Table S1 grousered wheel with the paper's DRFT parameters (Fig 4-5)."""
+    w, ps = table_s1()["grousered_wheel"], table_s1()["poppy_seeds"]
+    return LocomotorScenario(
+        name="grousered_wheel", body="wheel",
+        hub_diameter=w["inner_diameter"], lug_height=w["grouser_height"], lug_width=w["grouser_width"],
+        lug_count=w["grouser_count"], width=w["width"], lug_height_scale=1.0 / 3.0,
+        hub_elements_per_segment=14, lug_elements_per_face=8,
+        mass_x=w["effective_horizontal_inertia"], mass_z=w["effective_vertical_inertia"],
+        gravity=w["gravity"], external_fx=0.0, length_scale=w["outer_diameter"],
+        supported_models=ALL_KINDS,
+        force_model=ForceModelConfig(
+            xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=1.0, structural="wheel-rear-half"
+        ),
+    )  # fmt: skip
+
+
+def small_wheel_scenario() -> LocomotorScenario:
+    """Fig S1: the Table S1 wheel with every length (width included) halved; inertias x 1/8."""
+    big = grousered_wheel_scenario()
+    s = float(table_s1()["small_grousered_wheel"]["scale"])
+    return big.model_copy(
+        update=dict(
+            name="small_grousered_wheel",
+            hub_diameter=big.hub_diameter * s, lug_height=big.lug_height * s, lug_width=big.lug_width * s,
+            width=big.width * s, mass_x=big.mass_x * s**3, mass_z=big.mass_z * s**3,
+            length_scale=big.length_scale * s,
+        )
+    )  # fmt: skip
+
+
+def four_flap_runner_scenario(lam: float = 4.0) -> LocomotorScenario:
+    """The Table S1 four-flap runner (Fig 7): inertial correction only, lambda = ``lam``."""
+    r, ps = table_s1()["four_flap_runner"], table_s1()["poppy_seeds"]
+    return LocomotorScenario(
+        name="four_flap_runner", body="runner",
+        hub_diameter=r["inner_diameter"], lug_height=r["flap_length"], lug_width=r["flap_width"],
+        lug_count=r["flap_count"], width=r["width"], lug_height_scale=1.0,
+        hub_elements_per_segment=14, lug_elements_per_face=16,
+        mass_x=r["mass"], mass_z=r["mass"], gravity=r["gravity"], external_fx=0.0,
+        length_scale=r["outer_diameter"], supported_models=ALL_KINDS,
+        force_model=ForceModelConfig(xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=lam, structural="none"),
+    )  # fmt: skip
+
+
+DEFAULTS = {"wheel": grousered_wheel_scenario, "runner": four_flap_runner_scenario}
