@@ -28,6 +28,9 @@ def synthetic_bed(dh_rear, r=0.1, cz=0.04, h=0.004):
     zl = -dh_rear + 0.015
     cos_a = (cz - zl) / (r + 0.003)
     loose = np.array([[-(r + 0.003) * np.sqrt(1 - cos_a**2), zl]])
+    # the loosened wake under the wheel's rear carries no pressure: it is not the free surface
+    wake = (pos[:, 0] < 0) & (pos[:, 0] > -0.06) & (np.hypot(pos[:, 0], pos[:, 1] - cz) < r + 2 * h)
+    p[wake] = 0.0
     return np.vstack([pos, loose]), np.append(p, 0.0)
 
 
@@ -36,7 +39,7 @@ def test_rear_contact_drop_recovers_surface(dh):
     wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
     pos, p = synthetic_bed(dh)
     h = 0.004
-    got = rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=638 * 9.8 * h)
+    got = rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h)
     assert got == pytest.approx(dh, abs=1.5 * h)
 
 

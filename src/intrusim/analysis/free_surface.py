@@ -1,10 +1,13 @@
 """Free-surface measurements on MPM particle data (paper Fig 5C).
 
 The paper measures the structural correction as the drop dh of the rear free surface: "the
-lowest point making rear contact with the wheel for which hydrostatic pressure -> 0". We take
-the particles within a contact band of the wheel outline, behind the wheel centre (relative to
-the travel direction), whose pressure is below a small tolerance, and report how far the lowest
-of them lies below the undisturbed surface.
+lowest point making rear contact with the wheel for which hydrostatic pressure -> 0". Going down
+the rear of the wheel from the top, the contact material is first pressure-free (ejected or
+surface grains), then pressurised. We take the particles within a contact band of the wheel
+outline, behind the wheel centre (relative to the travel direction), and locate that transition
+as the highest contact particle whose pressure exceeds a small tolerance: dh is how far it lies
+below the undisturbed surface. Pressure-free material lower down (the loosened wake under the
+wheel) is thereby not mistaken for the free surface.
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ def rear_contact_drop(
     band: float,
     pressure_tol: float,
 ) -> float:
-    """Drop dh (m) of the rear free surface where it meets the wheel; NaN if no rear contact.
+    """Drop dh (m) of the rear free surface where it meets the wheel; NaN if no loaded rear contact.
 
     Parameters
     ----------
@@ -51,7 +54,8 @@ def rear_contact_drop(
     forward : +1 if the wheel travels towards +x, -1 otherwise.
     surface_z : undisturbed free-surface height, m.
     band : particles closer than this to the outline are in contact, m (about one grid cell).
-    pressure_tol : pressure below which a particle counts as at the free surface, Pa.
+    pressure_tol : pressure above which a contact particle counts as loaded, Pa (about
+        rho g h / 2 for grid spacing h).
     """
     pos = finite_array("positions", positions, (2,))
     p = finite_array("pressure", pressure)
@@ -70,7 +74,7 @@ def rear_contact_drop(
     if len(idx) == 0:
         return float("nan")
     dist = polygon_signed_distance(pos[idx], polygon_world)
-    contact = idx[(dist < band) & (p[idx] <= tol)]
-    if len(contact) == 0:
+    loaded = idx[(dist < band) & (p[idx] > tol)]
+    if len(loaded) == 0:  # nothing behind the wheel pushes back: no rear free surface to measure
         return float("nan")
-    return float(surface_z - pos[contact, 1].min())
+    return float(surface_z - pos[loaded, 1].max())

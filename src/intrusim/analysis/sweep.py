@@ -28,7 +28,9 @@ def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -
     """One steady state as a flat record; failures are caught and described, never raised."""
     rec: dict[str, Any] = {"omega_rpm": omega_rpm, "ok": False, "error": ""}
     try:
-        st = run_steady(scenario, kind, omega_rpm, lam)
+        # a scenario may carry its own runner (MPMLocomotion: the continuum solver)
+        runner = getattr(scenario, "run_steady", None)
+        st = runner(kind, omega_rpm, lam) if runner is not None else run_steady(scenario, kind, omega_rpm, lam)
     except Exception as err:  # noqa: BLE001 - one bad point must not sink the sweep
         rec["error"] = f"{type(err).__name__}: {err}"
         return rec

@@ -1,0 +1,279 @@
+"""MPM locomotion: the paper's wheels and runner in the continuum solver (Fig 3, 5, 7, S1).
+
+A :class:`MPMLocomotion` case pairs a :class:`~intrusim.scenarios.locomotor.LocomotorScenario`
+(geometry, inertias, gravity: the same body that RFT/DRFT drive) with :class:`MPMSettings`
+(bed, resolution, material, run length). ``case.run_steady("mpm", omega_rpm)`` builds the
+:class:`~intrusim.mpm.config.MPMConfig`, runs the coupled simulation (prescribed omega ramped
+from rest, free x and z) and averages it over a documented window:
+
+* the run stops at ``t_max`` or as soon as the body's front comes within ``wall_margin`` of the
+  right wall (1 m bed: the paper's experiments and simulations use a 1 m long bed);
+* the steady state is the average over t >= ``ramp_time + settle_time``; for a non-round
+  runner the window is trimmed to whole revolutions, counted back from the end.
+
+Sinkage is the depth of the lowest TRUE outline point below the undisturbed surface (as for
+RFT/DRFT). The rear free-surface drop dh (Fig 5C) is measured on particle snapshots taken
+during the window (:func:`intrusim.analysis.free_surface.rear_contact_drop`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+from pydantic import Field
+
+from intrusim._checks import InputError, finite
+from intrusim.analysis.free_surface import rear_contact_drop
+from intrusim.analysis.steady import outline_sinkage
+from intrusim.params import table_s1
+from intrusim.scenarios.base import Config
+from intrusim.scenarios.locomotor import LocomotorScenario
+
+
+class MPMSettings(Config):
+    """How an MPM locomotion run is set up (SI). Defaults: the paper's resolution (Table S1).
+
+    Attributes
+    ----------
+    domain : (Lx, Lz) m; cells : grid cells (nx, nz); particles_per_cell : per direction.
+    bed_depth : m, height of the undisturbed free surface above the floor.
+    start_x : m, initial x of the body centre.
+    rho_c, mu_s : poppy seeds (Table S1): 638 kg/m^3, 0.56.
+    mu_w : body-grain friction (Table S1: 0.35).
+    youngs_modulus, poisson_ratio : numerical elastic stiffness (the paper does not give it).
+    forward_force : N, constant forward push (Table S1: 4 N on the MPM wheel; 0 for the runner).
+    ramp_time : s, linear spin-up of omega; settle_time : s, transient excluded from averages.
+    t_max : s, longest run; wall_margin : m, stop when the body's front is this close to the wall.
+    chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
+    cfl : C of dt = C h sqrt(rho_c / E).
+    arch, precision, cpu_threads : Taichi backend.
+    keep_fields : particle snapshots saved to the run folder (last ones of the window).
+    """
+
+    domain: tuple[float, float] = (1.0, 1.0)
+    cells: tuple[int, int] = (200, 200)
+    particles_per_cell: int = Field(2, ge=1, le=4)
+    bed_depth: float = Field(0.3, gt=0.0)
+    start_x: float = Field(0.22, gt=0.0)
+    rho_c: float = Field(638.0, gt=0.0)
+    mu_s: float = Field(0.56, ge=0.0)
+    mu_w: float = Field(0.35, ge=0.0)
+    youngs_modulus: float = Field(1.0e6, gt=0.0)
+    poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5)
+    forward_force: float = 4.0
+    ramp_time: float = Field(0.2, ge=0.0)
+    settle_time: float = Field(0.8, ge=0.0)
+    t_max: float = Field(4.0, gt=0.0)
+    wall_margin: float = Field(0.1, ge=0.0)
+    chunk: float = Field(0.05, gt=0.0)
+    cfl: float = Field(0.3, gt=0.0, le=1.0)
+    arch: str = "cpu"
+    precision: str = "f32"
+    cpu_threads: int | None = Field(None, ge=1)
+    keep_fields: int = Field(3, ge=0)
+
+    @property
+    def h(self) -> float:
+        return self.domain[0] / self.cells[0]
+
+
+def paper_settings(body: str) -> MPMSettings:
+    """The paper's set-up (Table S1) for a "wheel" or "runner" body."""
+    t = table_s1()
+    ps = t["poppy_seeds"]
+    res = t["mpm_resolution"]
+    common = dict(
+        domain=tuple(res["domain"]), cells=tuple(res["grid"]), particles_per_cell=int(res["particles_per_cell"][0]),
+        rho_c=ps["critical_density"], mu_s=ps["internal_friction"], mu_w=ps["wheel_surface_friction"],
+    )  # fmt: skip
+    if body == "wheel":
+        return MPMSettings(**common, forward_force=t["grousered_wheel"]["mpm_forward_force"])
+    if body == "runner":
+        return MPMSettings(**common, forward_force=0.0, t_max=3.0, settle_time=0.6)
+    raise InputError(f"body must be 'wheel' or 'runner', got {body!r}")
+
+
+@dataclass(frozen=True)
+class MPMSteadyState:
+    """Window averages of one MPM locomotion run (SI) and its time series."""
+
+    omega: float
+    velocity: float
+    sinkage: float
+    slip: float
+    velocity_std: float
+    sinkage_std: float
+    drift: float
+    settled: bool
+    surface_drop: float  # m, rear free-surface drop dh (Fig 5C); NaN if never measured
+    surface_drop_std: float
+    window: tuple[float, float]
+    radius: float
+    wall_time: float  # s
+    steps: int
+    series: dict[str, np.ndarray] = field(repr=False)
+    meta: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    def summary(self) -> dict[str, float]:
+        return {
+            "omega": self.omega, "velocity": self.velocity, "sinkage": self.sinkage, "slip": self.slip,
+            "velocity_std": self.velocity_std, "sinkage_std": self.sinkage_std, "drift": self.drift,
+            "surface_drop": self.surface_drop, "surface_drop_std": self.surface_drop_std,
+            "wall_time": self.wall_time, "steps": float(self.steps), "settled": float(self.settled),
+        }  # fmt: skip
+
+
+def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: float, out_dir: str | Path | None = None):
+    """The :class:`~intrusim.mpm.config.MPMConfig` of ``scenario`` spinning forward at ``omega_rpm``."""
+    from intrusim.mpm.config import (
+        BackendConfig, BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
+        OutputConfig, Rectangle, TimeConfig,
+    )  # fmt: skip
+
+    w = finite("omega_rpm", omega_rpm)
+    if w <= 0.0:
+        raise InputError(f"omega_rpm must be > 0 (forward rolling), got {omega_rpm!r}")
+    s = settings
+    outline = scenario.rft_shape().polygon  # the TRUE outline (lug shadowing only affects RFT elements)
+    radius = float(np.max(np.linalg.norm(outline, axis=1)))
+    z0 = s.bed_depth - float(outline[:, 1].min()) + 0.5 * s.h  # lowest point half a cell above the bed
+    if s.start_x - radius < s.h or z0 + radius > s.domain[1] - s.h:
+        raise InputError(f"the body (radius {radius:.3g} m) does not fit in the domain at start_x={s.start_x}")
+    return MPMConfig(
+        domain=DomainConfig(size=s.domain, cells=s.cells, particles_per_cell=s.particles_per_cell),
+        material=MaterialConfig(rho_c=s.rho_c, mu_s=s.mu_s, youngs_modulus=s.youngs_modulus, poisson_ratio=s.poisson_ratio),
+        bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=s.domain[0], z1=s.bed_depth)]),
+        intruders=[IntruderConfig(
+            vertices=outline.tolist(), width=scenario.width, mu_w=s.mu_w, x=s.start_x, z=z0,
+            motion=CoupledMotion(
+                omega=-w * 2 * math.pi / 60, ramp_time=s.ramp_time, mass_x=scenario.mass_x, mass_z=scenario.mass_z,
+                external_force=(s.forward_force, 0.0),
+            ),
+        )],
+        gravity=(0.0, -scenario.gravity),
+        time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
+        output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5),
+        backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),
+    )  # fmt: skip
+
+
+def _window_mask(t: np.ndarray, t_start: float, omega: float, whole_revolutions: bool) -> np.ndarray:
+    """Samples in the averaging window; optionally trimmed to whole revolutions from the end."""
+    t_end = float(t[-1])
+    if whole_revolutions:
+        period = 2 * math.pi / omega
+        n_rev = math.floor((t_end - t_start) / period)
+        if n_rev >= 1:
+            t_start = t_end - n_rev * period
+    return t > t_start
+
+
+def run_mpm_steady(
+    scenario: LocomotorScenario,
+    settings: MPMSettings,
+    omega_rpm: float,
+    out_dir: str | Path | None = None,
+    progress: Callable[[dict], None] | None = None,
+) -> MPMSteadyState:
+    """Run one MPM locomotion case to steady state (see module docstring for the window)."""
+    from intrusim.mpm.solver import Solver
+
+    cfg = mpm_config(scenario, settings, omega_rpm, out_dir)
+    s = settings
+    solver = Solver(cfg)
+    body = solver.intruders[0]
+    outline = np.asarray(body.contact.vertices)
+    radius = float(np.max(np.linalg.norm(outline, axis=1)))
+    t_avg = s.ramp_time + s.settle_time
+    if t_avg >= s.t_max:
+        raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
+    drops: list[tuple[float, float]] = []
+    kept: list[Path] = []
+    wall0 = time.perf_counter()
+    t_next = 0.0
+    while solver.t < s.t_max - 0.5 * solver.dt:
+        t_next = min(t_next + s.chunk, s.t_max)
+        solver.run(t_end=t_next)
+        st = body.state
+        if progress is not None:
+            progress({"t": solver.t, "x": st.x, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
+        if solver.t >= t_avg:
+            f = solver.particle_fields()
+            h = solver.h
+            dh = rear_contact_drop(
+                f["x"], f["pressure"], body.world_vertices(), (st.x, st.z), 1.0, s.bed_depth,
+                band=h, pressure_tol=0.5 * s.rho_c * scenario.gravity * h,
+            )  # fmt: skip
+            drops.append((solver.t, dh))
+            if out_dir is not None and s.keep_fields:
+                path = Path(out_dir) / f"fields_{solver.step_count:08d}.npz"
+                np.savez_compressed(
+                    path, x=f["x"], v=f["v"], pressure=f["pressure"], gdot_p=f["gdot_p"], eps_p=f["eps_p"],
+                    body=np.array([st.x, st.z, st.theta, st.vx, st.vz, st.omega]), outline=outline, t=solver.t,
+                )  # fmt: skip
+                kept.append(path)
+                while len(kept) > s.keep_fields:
+                    kept.pop(0).unlink(missing_ok=True)
+        if st.x + radius > s.domain[0] - s.wall_margin:
+            break
+    wall = time.perf_counter() - wall0
+    rows = solver.rows
+    series = {k: np.array([r[k] for r in rows], float) for k in ("time", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")}
+    series["sinkage"] = outline_sinkage(outline, series["z"], series["theta"], s.bed_depth)
+    t = series["time"]
+    if t[-1] <= t_avg:
+        raise InputError(
+            f"the run ended at t = {t[-1]:.3g} s (body reached the wall), before the averaging window starts "
+            f"at {t_avg:.3g} s: use a longer bed, a smaller start_x or a shorter settle_time"
+        )
+    omega = abs(float(series["omega"][-1]))
+    sel = _window_mask(t, t_avg, omega, whole_revolutions=scenario.body == "runner")
+    v, sk = series["vx"][sel], series["sinkage"][sel]
+    half = len(v) // 2
+    v_mean = float(v.mean())
+    drift = max(abs(v[half:].mean() - v[:half].mean()) / max(abs(v_mean), 1e-12), abs(sk[half:].mean() - sk[:half].mean()) / radius) if half else 0.0
+    dh = np.array([d for _, d in drops], float)
+    dh_ok = dh[np.isfinite(dh)]
+    return MPMSteadyState(
+        omega=omega, velocity=v_mean, sinkage=float(sk.mean()), slip=1.0 - v_mean / (radius * omega),
+        velocity_std=float(v.std()), sinkage_std=float(sk.std()), drift=float(drift), settled=bool(drift < 0.05),
+        surface_drop=float(dh_ok.mean()) if len(dh_ok) else math.nan,
+        surface_drop_std=float(dh_ok.std()) if len(dh_ok) else math.nan,
+        window=(float(t[sel][0]), float(t[-1])), radius=radius, wall_time=wall, steps=solver.step_count,
+        series=series, meta={"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept]},
+    )  # fmt: skip
+
+
+class MPMLocomotion(Config):
+    """A locomotor scenario run with the MPM solver; usable wherever sweeps take a scenario."""
+
+    scenario: LocomotorScenario
+    mpm: MPMSettings
+    out_root: str | None = None
+
+    @property
+    def name(self) -> str:
+        return f"{self.scenario.name}-mpm"
+
+    @property
+    def supported_models(self) -> tuple[str, ...]:
+        return ("mpm",)
+
+    @property
+    def radius(self) -> float:
+        return self.scenario.radius
+
+    def run_steady(self, kind: str, omega_rpm: float, lam: float | None = None) -> MPMSteadyState:
+        """Steady state at ``omega_rpm`` (``kind`` must be "mpm"; ``lam`` is not used by MPM)."""
+        if kind != "mpm":
+            raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
+        out = None
+        if self.out_root is not None:
+            out = Path(self.out_root) / f"{self.scenario.name}_{omega_rpm:g}rpm"
+            out.mkdir(parents=True, exist_ok=True)
+        return run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
