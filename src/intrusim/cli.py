@@ -153,5 +153,13 @@ def reproduce(
         typer.echo(str(p))
 
 
+def _register_mpm() -> None:
+    from intrusim.cli_mpm import mpm_app
+
+    app.add_typer(mpm_app, name="mpm")
+
+
+_register_mpm()
+
 if __name__ == "__main__":  # pragma: no cover
     app()

@@ -1,0 +1,117 @@
+"""`intrusim mpm ...`: the continuum (MPM) side of the command line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from intrusim._checks import InputError
+
+mpm_app = typer.Typer(help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True)
+
+SCENARIOS = ("wheel", "small-wheel", "runner")
+
+
+def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None):
+    from intrusim.scenarios import LOCOMOTORS
+    from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
+
+    if scenario not in SCENARIOS:
+        raise InputError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
+    sc = LOCOMOTORS[scenario]()
+    settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
+    settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
+    return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
+
+
+def _rpms(text: str) -> list[float]:
+    try:
+        return [float(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise InputError(f"omega list must be comma-separated numbers, got {text!r}") from None
+
+
+@mpm_app.command("steady")
+def steady(
+    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}."),
+    omega_rpm: float = typer.Option(30.0, help="Spin, RPM (forward rolling)."),
+    quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
+    out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
+    frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
+) -> None:
+    """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
+    try:
+        case = _case(scenario, quick, out, frames_every, None)
+        typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
+        last = [-1.0]
+
+        def progress(d: dict) -> None:
+            if d["t"] - last[0] >= 0.25 - 1e-9:
+                last[0] = d["t"]
+                typer.echo(f"  t = {d['t']:.2f} s  x = {d['x']:.3f} m  vx = {d['vx']:.3f} m/s  wall {d['wall']:.0f} s")
+
+        from intrusim.scenarios.mpm_locomotion import run_mpm_steady
+
+        run_dir = None
+        if out is not None:
+            run_dir = Path(out) / f"{case.scenario.name}_{omega_rpm:g}rpm"
+            run_dir.mkdir(parents=True, exist_ok=True)
+        st = run_mpm_steady(case.scenario, case.mpm, omega_rpm, run_dir, progress)
+    except (InputError, ValueError) as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(
+        f"steady state over t = {st.window[0]:.2f}-{st.window[1]:.2f} s: v = {st.velocity:.4f} m/s, "
+        f"sinkage = {st.sinkage * 1e3:.2f} mm, slip = {st.slip:.3f}, rear surface drop = {st.surface_drop * 1e3:.1f} mm "
+        f"({st.steps} steps, {st.meta['particles']} particles, {st.wall_time:.0f} s wall)"
+    )
+
+
+@mpm_app.command("sweep")
+def sweep(
+    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}."),
+    omega_rpm: str = typer.Option("10,20,30,40,50,60,70,80,90", help="Comma-separated RPM list."),
+    quick: bool = typer.Option(False, help="Coarse grid, short runs."),
+    out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),
+    workers: int = typer.Option(2, help="Dask worker processes (each runs Taichi on cores/workers threads)."),
+    scheduler: str = typer.Option(None, help="Address of an existing Dask scheduler (default: a local cluster)."),
+    serial: bool = typer.Option(False, help="Run the points one after another in this process."),
+    frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
+) -> None:
+    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
+    import os
+
+    from intrusim.analysis.sweep import sweep_omega
+
+    try:
+        threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
+        case = _case(scenario, quick, out, frames_every, threads)
+        out.mkdir(parents=True, exist_ok=True)
+        res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
+    except (InputError, ValueError) as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
+    path = res.to_csv(out / f"{case.scenario.name}_mpm_sweep.csv")
+    typer.echo(res.table())
+    typer.echo(f"wrote {path}")
+
+
+@mpm_app.command("movie")
+def movie(
+    run_dir: Path = typer.Argument(..., help="Run folder holding frames/ (run with --frames-every)."),
+    field: str = typer.Option("gdot_p", help="gdot_p, speed or eps_p."),
+    out: Path = typer.Option(None, help="MP4 path (default RUN_DIR/FIELD.mp4)."),
+    fps: float = typer.Option(20.0, help="Frames per second."),
+) -> None:
+    """Render a run's saved frames to an MP4 movie (Movies S7, S8)."""
+    from intrusim.io.movie import movie_from_frames
+
+    try:
+        vmax = {"gdot_p": 100.0, "speed": 0.5, "eps_p": 2.0}.get(field, 1.0)
+        vmin = 0.1 if field == "gdot_p" else 0.0
+        path = movie_from_frames(run_dir / "frames", out or run_dir / f"{field}.mp4", field, fps, vmin=vmin, vmax=vmax)
+    except (FileNotFoundError, ValueError) as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(f"wrote {path}")
