@@ -1,0 +1,64 @@
+"""Coarse MPM locomotion in CI (2 cm cells, ~1 s runs): the signs of the paper's trends.
+
+Full-resolution numbers (5 mm cells, the paper's set-up) are produced by `intrusim mpm sweep`
+and recorded in docs/results.md; these tests only check the direction of each effect.
+"""
+
+import math
+
+import pytest
+
+from intrusim._checks import InputError
+from intrusim.analysis.sweep import sweep_omega
+from intrusim.scenarios import four_flap_runner_scenario, grousered_wheel_scenario
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, mpm_config, quick_settings, run_mpm_steady
+
+
+@pytest.fixture(scope="module")
+def wheel_runs():
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel")
+    return {rpm: run_mpm_steady(sc, s, rpm) for rpm in (10.0, 50.0)}
+
+
+def test_wheel_slips_more_and_sinks_more_as_omega_grows(wheel_runs):
+    slow, fast = wheel_runs[10.0], wheel_runs[50.0]
+    assert fast.velocity > slow.velocity > 0
+    assert fast.slip > slow.slip + 0.05  # v/(r omega) falls (Fig 3A plateau)
+    assert fast.sinkage > slow.sinkage  # sinkage grows with omega (Fig 3B)
+    for st in (slow, fast):
+        assert 0 < st.sinkage < st.radius
+        assert st.window[0] >= 0.6 - 1e-9 and st.window[1] > st.window[0] + 0.3
+
+
+def test_wheel_rear_surface_drop_grows_with_omega(wheel_runs):
+    slow, fast = wheel_runs[10.0], wheel_runs[50.0]
+    assert math.isfinite(slow.surface_drop) and math.isfinite(fast.surface_drop)
+    assert fast.surface_drop > slow.surface_drop  # Fig 5C
+
+
+def test_runner_rises_as_omega_grows():
+    sc = four_flap_runner_scenario()
+    s = quick_settings("runner")
+    slow, fast = (run_mpm_steady(sc, s, rpm) for rpm in (30.0, 90.0))
+    assert fast.velocity > 2 * slow.velocity
+    assert fast.sinkage < slow.sinkage  # elevation with spin (Fig 7C)
+
+
+def test_sweep_dispatches_to_mpm_and_survives_a_bad_point():
+    s = quick_settings("wheel").model_copy(update=dict(t_max=0.6, settle_time=0.3))
+    case = MPMLocomotion(scenario=grousered_wheel_scenario(), mpm=s)
+    res = sweep_omega(case, "mpm", [20.0, -5.0], parallel=False, progress=False)
+    good, bad = res.records
+    assert good["ok"] and good["velocity"] > 0
+    assert not bad["ok"] and "omega_rpm" in bad["error"]
+
+
+def test_bad_mpm_cases_fail_before_compute():
+    sc = grousered_wheel_scenario()
+    with pytest.raises(InputError, match="omega_rpm"):
+        mpm_config(sc, quick_settings("wheel"), 0.0)
+    with pytest.raises(InputError, match="does not fit"):
+        mpm_config(sc, quick_settings("wheel").model_copy(update=dict(start_x=0.05)), 30.0)
+    with pytest.raises(InputError, match="MPMLocomotion runs the 'mpm' model"):
+        MPMLocomotion(scenario=sc, mpm=quick_settings("wheel")).run_steady("drft", 30.0)
