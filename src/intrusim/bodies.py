@@ -141,7 +141,7 @@ class IntegratorSettings:
     force_tol_rel: float = 5e-2
     stall_iter: int = 3
     contraction: float = 0.5
-    max_backtrack: int = 6
+    max_backtrack: int = 12
 
     def __post_init__(self) -> None:
         positive("dt", self.dt)
@@ -258,15 +258,15 @@ def _implicit_step(
             step *= 0.5
         if not (math.isfinite(nx) and math.isfinite(nz) and math.isfinite(ngx) and math.isfinite(ngz)):
             raise _fail("non-finite velocity in the Newton iteration", t, s)
-        update = step * math.hypot(dvx, dvz)
+        update = math.hypot(dvx, dvz)  # the full Newton update: a damped step is not convergence
         vx, vz, gx, gz, fx, fz, m = nx, nz, ngx, ngz, nfx, nfz, nm
         norm = math.hypot(gx, gz)
         if update <= s.velocity_tol:
             return vx, vz, fx, fz, m, it
         if norm < best[0]:
             best = (norm, vx, vz, fx, fz, m)
-        if norm > s.contraction * norm0:
-            stall += 1  # poor contraction: refresh the Jacobian (once), then count stalls
+        if norm > s.contraction * norm0 or step < 1.0:
+            stall += 1  # poor contraction or damped step: refresh the Jacobian, then count stalls
         else:
             stall = 0
         # The force is discontinuous where an element switches (leading-edge rule), so G may have
