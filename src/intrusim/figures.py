@@ -50,7 +50,7 @@ def _curves(
         return [(label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=False, progress=False)) for label, s, kind, lam in cases]
     from dask.distributed import LocalCluster
 
-    with LocalCluster(threads_per_worker=1, processes=True, dashboard_address=None) as cluster:  # one cluster per figure
+    with LocalCluster(threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:  # one cluster per figure
         addr = cluster.scheduler_address
         return [(label, s, sweep_omega(s, kind, rpm, lam=lam, scheduler_address=addr, progress=False)) for label, s, kind, lam in cases]
 

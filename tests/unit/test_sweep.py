@@ -47,6 +47,6 @@ def test_empty_or_unsupported(wheel):
 def test_dask_matches_serial(wheel):
     pts = [20.0, -1.0, 50.0]
     ser = sweep_omega(wheel, "drft", pts, parallel=False, progress=False)
-    par = sweep_omega(wheel, "drft", pts, parallel=True, n_workers=2, progress=False)
+    par = sweep_omega(wheel, "drft", pts, parallel=True, n_workers=1, progress=False)  # 1 process: cheap start
     assert [r["ok"] for r in par.records] == [True, False, True]
     assert np.allclose(par.column("velocity")[[0, 2]], ser.column("velocity")[[0, 2]], rtol=1e-12)
