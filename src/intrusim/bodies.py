@@ -45,6 +45,10 @@ class IntegratorError(RuntimeError):
     """The time integration failed (non-finite values, divergence, Newton not converged)."""
 
 
+class NewtonNotConverged(IntegratorError):
+    """The Newton iteration of one implicit step did not converge (the step is retried in halves)."""
+
+
 @dataclass(frozen=True)
 class Drive:
     """Prescribed angular velocity: a linear ramp from rest to ``omega`` over ``ramp_time``.
@@ -129,6 +133,8 @@ class IntegratorSettings:
     contraction : float. An iteration that does not reduce |G| by this factor contracts poorly
         (the reused Jacobian is then refreshed).
     max_backtrack : int. Step halvings of the damped Newton update.
+    max_halvings : int. A step whose Newton iteration fails is retried in 2, 4, ..., 2^max_halvings
+        equal sub-steps before the integration is declared failed.
     """
 
     dt: float = 2e-3
@@ -141,7 +147,8 @@ class IntegratorSettings:
     force_tol_rel: float = 5e-2
     stall_iter: int = 3
     contraction: float = 0.5
-    max_backtrack: int = 6
+    max_backtrack: int = 12
+    max_halvings: int = 3
 
     def __post_init__(self) -> None:
         positive("dt", self.dt)
@@ -157,6 +164,8 @@ class IntegratorSettings:
         if not 0.0 < self.contraction < 1.0:
             raise InputError(f"contraction must be in (0, 1), got {self.contraction!r}")
         positive_int("max_backtrack", self.max_backtrack)
+        if int(self.max_halvings) != self.max_halvings or self.max_halvings < 0:
+            raise InputError(f"max_halvings must be an integer >= 0, got {self.max_halvings!r}")
 
 
 @dataclass(frozen=True)
@@ -204,6 +213,36 @@ def force_function(model: Any) -> ForceFn:
     if callable(model):
         return model
     raise InputError("force model must have wrench_tuple(...) or wrench(state), or be a callable")
+
+
+def _implicit_advance(
+    force: ForceFn, drive: Drive, th_base: float, x: float, z: float, vx: float, vz: float, t0: float, dt: float,
+    ax_ext: float, az_ext: float, inv_mx: float, inv_mz: float, s: IntegratorSettings, g_tol_rate: float,
+    jac: list[float],
+) -> tuple[float, float, float, float, float, float, float, int]:  # fmt: skip
+    """Advance by ``dt`` with backward Euler; if Newton fails, retry in 2, 4, ... equal sub-steps.
+
+    ``th_base`` is theta minus the drive angle (theta(t) = th_base + drive.angle_at(t)).
+    Returns (x, z, vx, vz, fx, fz, moment, Newton iterations summed over sub-steps).
+    """
+    last: NewtonNotConverged | None = None
+    for halvings in range(s.max_halvings + 1):
+        k = 2**halvings
+        h = dt / k
+        xs, zs, vxs, vzs, total = x, z, vx, vz, 0
+        try:
+            for j in range(1, k + 1):
+                tj = t0 + j * h
+                vx1, vz1, fx, fz, m, it = _implicit_step(
+                    force, xs, zs, th_base + drive.angle_at(tj), vxs, vzs, drive.omega_at(tj), h,
+                    ax_ext, az_ext, inv_mx, inv_mz, s, tj, g_tol_rate * h, jac,
+                )  # fmt: skip
+                xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
+            return xs, zs, vxs, vzs, fx, fz, m, total
+        except NewtonNotConverged as err:
+            last = err
+            jac.clear()
+    raise _fail(f"{last} (also in {2**s.max_halvings} sub-steps)", t0 + dt, s)
 
 
 def _fail(msg: str, t: float, settings: IntegratorSettings) -> IntegratorError:
@@ -258,15 +297,15 @@ def _implicit_step(
             step *= 0.5
         if not (math.isfinite(nx) and math.isfinite(nz) and math.isfinite(ngx) and math.isfinite(ngz)):
             raise _fail("non-finite velocity in the Newton iteration", t, s)
-        update = step * math.hypot(dvx, dvz)
+        update = math.hypot(dvx, dvz)  # the full Newton update: a damped step is not convergence
         vx, vz, gx, gz, fx, fz, m = nx, nz, ngx, ngz, nfx, nfz, nm
         norm = math.hypot(gx, gz)
         if update <= s.velocity_tol:
             return vx, vz, fx, fz, m, it
         if norm < best[0]:
             best = (norm, vx, vz, fx, fz, m)
-        if norm > s.contraction * norm0:
-            stall += 1  # poor contraction: refresh the Jacobian (once), then count stalls
+        if norm > s.contraction * norm0 or step < 1.0:
+            stall += 1  # poor contraction or damped step: refresh the Jacobian, then count stalls
         else:
             stall = 0
         # The force is discontinuous where an element switches (leading-edge rule), so G may have
@@ -275,9 +314,9 @@ def _implicit_step(
             return best[1], best[2], best[3], best[4], best[5], it
     if best[0] <= g_tol:
         return best[1], best[2], best[3], best[4], best[5], s.max_iter
-    raise _fail(
+    raise NewtonNotConverged(
         f"Newton iteration did not converge in {s.max_iter} iterations (|G| = {best[0]:.3g} m/s, "
-        f"tolerance {g_tol:.3g} m/s)", t, s
+        f"tolerance {g_tol:.3g} m/s) at t = {t:.4g} s with a step of {dt:g} s"
     )
 
 
@@ -330,7 +369,7 @@ def simulate(
     fx, fz, m = force(x, z, th0, vx, vz, om)
     surface = getattr(model, "surface_z", 0.0)
     # residual tolerance of a stalled Newton iteration, as a velocity: dt * force_tol / m
-    g_tol = dt * s.force_tol_rel * max(body.weight, abs(body.external_fx), abs(body.external_fz), 1.0) * max(inv_mx, inv_mz)
+    g_rate = s.force_tol_rel * max(body.weight, abs(body.external_fx), abs(body.external_fz), 1.0) * max(inv_mx, inv_mz)
     cols = (out["x"], out["z"], out["theta"], out["vx"], out["vz"], out["omega"], out["fx"], out["fz"], out["moment"])
     for c, v in zip(cols, (x, z, th0, vx, vz, om, fx, fz, m)):
         c[0] = v
@@ -340,10 +379,9 @@ def simulate(
         om1 = drive.omega_at(ti)
         th1 = th0 + (drive.angle_at(ti) - angle0)
         if s.scheme == "implicit":
-            vx1, vz1, fx, fz, m, it = _implicit_step(
-                force, x, z, th1, vx, vz, om1, dt, ax_ext, az_ext, inv_mx, inv_mz, s, ti, g_tol, jac
+            x, z, vx, vz, fx, fz, m, it = _implicit_advance(
+                force, drive, th0 - angle0, x, z, vx, vz, float(t[i - 1]), dt, ax_ext, az_ext, inv_mx, inv_mz, s, g_rate, jac
             )  # fmt: skip
-            x, z, vx, vz = x + dt * vx1, z + dt * vz1, vx1, vz1
         else:
             vx1 = vx + dt * (fx * inv_mx + ax_ext)
             vz1 = vz + dt * (fz * inv_mz + az_ext)
@@ -367,4 +405,4 @@ def simulate(
     return Trajectory(t=t, iterations=iters, meta={"dt": dt, "scheme": s.scheme}, **out)
 
 
-__all__ = ["Drive", "RigidBody", "IntegratorSettings", "IntegratorError", "Trajectory", "simulate", "force_function"]
+__all__ = ["Drive", "RigidBody", "IntegratorSettings", "IntegratorError", "NewtonNotConverged", "Trajectory", "simulate", "force_function"]

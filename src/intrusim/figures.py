@@ -46,7 +46,13 @@ def _quick(s: LocomotorScenario, quick: bool) -> LocomotorScenario:
 def _curves(
     cases: Sequence[tuple[str, LocomotorScenario, str, float | None]], rpm: np.ndarray, parallel: bool
 ) -> list[tuple[str, LocomotorScenario, SweepResult]]:
-    return [(label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=parallel, progress=False)) for label, s, kind, lam in cases]
+    if not parallel:
+        return [(label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=False, progress=False)) for label, s, kind, lam in cases]
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:  # one cluster per figure
+        addr = cluster.scheduler_address
+        return [(label, s, sweep_omega(s, kind, rpm, lam=lam, scheduler_address=addr, progress=False)) for label, s, kind, lam in cases]
 
 
 def _write(

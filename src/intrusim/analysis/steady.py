@@ -134,6 +134,33 @@ def steady_state(
     )  # fmt: skip
 
 
+def run_until_steady(model: Any, shape: Shape, body: Any, drive: Any, initial: Any, run: Any) -> SteadyState:
+    """Simulate, then extend the run a few revolutions at a time until the window stops drifting.
+
+    Parameters
+    ----------
+    model : force model; shape : Shape (its TRUE outline gives the sinkage, its radius the slip);
+    body : RigidBody; drive : Drive; initial : BodyState at t = 0;
+    run : RunConfig (ramp/settle time, averaging revolutions, dt, drift_tol, max_extensions).
+    """
+    settings = IntegratorSettings(dt=run.dt(drive.omega))
+    surface = getattr(model, "surface_z", 0.0)
+    traj = simulate(model, body, drive, initial, run.duration(drive.omega), settings)
+    st = steady_state(traj, shape, run.average_revolutions, surface)
+    extensions = 0
+    while st.drift > run.drift_tol and extensions < run.max_extensions:  # running means still drifting
+        more = simulate(
+            model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings, t0=float(traj.t[-1])
+        )  # fmt: skip
+        traj = traj.concatenate(more)
+        st = steady_state(traj, shape, run.average_revolutions, surface)
+        extensions += 1
+    if st.drift > run.drift_tol:
+        st = replace(st, settled=False)
+    st.meta.update(dt=settings.dt, extensions=extensions)
+    return st
+
+
 def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: float | None = None) -> SteadyState:
     """Simulate ``scenario`` (a LocomotorScenario) with force model ``kind`` at ``omega_rpm``.
 
@@ -146,7 +173,8 @@ def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: 
 
     Returns
     -------
-    SteadyState averaged over the scenario's ``run.average_revolutions`` last revolutions.
+    SteadyState averaged over the scenario's ``run.average_revolutions`` last revolutions,
+    after the run has been extended until it stops drifting (see :func:`run_until_steady`).
     """
     w = finite("omega_rpm", omega_rpm)
     if w <= 0.0:
@@ -154,20 +182,6 @@ def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: 
     model = scenario.build_model(kind, lam)
     shape = scenario.rft_shape()
     drive = scenario.drive(w)
-    run = scenario.run
-    settings = IntegratorSettings(dt=run.dt(drive.omega))
-    body, initial = scenario.rigid_body(), scenario.initial_state(shape)
-    traj = simulate(model, body, drive, initial, run.duration(drive.omega), settings)
-    st = steady_state(traj, shape, run.average_revolutions, model.surface_z)
-    extensions = 0
-    while st.drift > run.drift_tol and extensions < run.max_extensions:  # running means still drifting
-        more = simulate(
-            model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings, t0=float(traj.t[-1])
-        )  # fmt: skip
-        traj = traj.concatenate(more)
-        st = steady_state(traj, shape, run.average_revolutions, model.surface_z)
-        extensions += 1
-    if st.drift > run.drift_tol:
-        st = replace(st, settled=False)
-    st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam, dt=settings.dt, extensions=extensions)
+    st = run_until_steady(model, shape, scenario.rigid_body(), drive, scenario.initial_state(shape), scenario.run)
+    st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam)
     return st

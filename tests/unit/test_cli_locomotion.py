@@ -1,0 +1,44 @@
+"""CLI: steady, sweep and reproduce print tables / write files and fail with clear messages."""
+
+import csv
+
+from typer.testing import CliRunner
+
+from intrusim.cli import app
+
+runner = CliRunner()
+
+
+def test_steady_table():
+    r = runner.invoke(app, ["steady", "--scenario", "wheel", "--model", "rft", "--omega-rpm", "30"])
+    assert r.exit_code == 0, r.output
+    assert "v m/s" in r.output and "slip" in r.output
+
+
+def test_steady_bad_input_is_a_message():
+    r = runner.invoke(app, ["steady", "--omega-rpm", "-5"])
+    assert r.exit_code == 2 and "omega_rpm must be > 0" in r.output
+    r = runner.invoke(app, ["steady", "--model", "mpm-magic"])
+    assert r.exit_code == 2 and "supports" in r.output
+
+
+def test_sweep_keeps_good_points_and_reports_bad(tmp_path):
+    out = tmp_path / "s.csv"
+    r = runner.invoke(app, ["sweep", "--model", "rft", "--omega-rpm", "30,0,60", "--no-parallel", "--csv", str(out)])
+    assert r.exit_code == 1  # one point failed
+    assert "ERROR" in r.output and r.output.count("|") >= 12
+    rows = list(csv.DictReader(out.open()))
+    assert [row["ok"] for row in rows] == ["True", "False", "True"]
+
+
+def test_reproduce_fig6a_quick(tmp_path):
+    r = runner.invoke(app, ["reproduce", "fig6a", "--out", str(tmp_path), "--quick"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "fig6a.png").stat().st_size > 1000
+    rows = list(csv.DictReader((tmp_path / "fig6a.csv").open()))
+    assert len(rows) == 15 and abs(float(rows[0]["fit_lambda"]) - float(rows[0]["paper_lambda"])) < 1e-9
+
+
+def test_reproduce_unknown_figure():
+    r = runner.invoke(app, ["reproduce", "fig99"])
+    assert r.exit_code == 2 and "unknown figure" in r.output

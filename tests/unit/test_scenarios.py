@@ -1,0 +1,61 @@
+"""Scenario configs: Table S1 defaults, TOML loading, validation, small-wheel scaling."""
+
+import numpy as np
+import pytest
+
+from intrusim._checks import InputError
+from intrusim.params import table_s1
+from intrusim.scenarios import get_scenario, load_scenario
+
+
+def test_wheel_defaults_from_table_s1():
+    s, t = get_scenario("wheel"), table_s1()["grousered_wheel"]
+    assert (s.mass_x, s.mass_z) == (t["effective_horizontal_inertia"], t["effective_vertical_inertia"])
+    assert s.rft_shape().outer_diameter == pytest.approx(t["outer_diameter"], abs=5e-4)
+    assert s.radius == pytest.approx(0.5 * t["outer_diameter"])
+    assert s.force_model.structural == "wheel-rear-half" and s.force_model.lam == 1.0
+    assert np.sqrt(s.gravity * s.length_scale) == pytest.approx(t_scale := table_s1()["scales"]["wheel_velocity_scale"], rel=2e-3)
+    assert s.omega_0 * 60 / (2 * np.pi) == pytest.approx(table_s1()["scales"]["wheel_omega_0_rpm"], rel=0.01)
+    del t_scale
+
+
+def test_small_wheel_is_half_size_with_eighth_mass():
+    big, small = get_scenario("wheel"), get_scenario("small-wheel")
+    assert small.rft_shape().outer_diameter == pytest.approx(0.5 * big.rft_shape().outer_diameter)
+    assert small.width == pytest.approx(0.5 * big.width)
+    assert small.mass_x == pytest.approx(big.mass_x / 8) and small.mass_z == pytest.approx(big.mass_z / 8)
+
+
+def test_runner_mass_ratio_is_as_printed_not_6():
+    r = get_scenario("runner")
+    ratio = r.mass_z / (r.force_model.rho * r.length_scale**2 * r.width)
+    assert ratio == pytest.approx(0.46, abs=0.01)  # the paper says ~6: documented inconsistency
+    assert r.force_model.structural == "none"
+
+
+def test_toml_partial_override(tmp_path):
+    p = tmp_path / "w.toml"
+    p.write_text('body = "wheel"\nname = "heavy"\nmass_z = 12.0\n[force_model]\nlam = 2.0\n[run]\naverage_revolutions = 1\n')
+    s = load_scenario(p)
+    assert s.name == "heavy" and s.mass_z == 12.0 and s.force_model.lam == 2.0 and s.run.average_revolutions == 1
+    assert s.force_model.xi == 0.35 and s.mass_x == 23.0  # untouched defaults kept
+
+
+@pytest.mark.parametrize(
+    "text, field",
+    [("mass_z = -1.0", "mass_z"), ("typo_field = 3", "typo_field"), ("[force_model]\nstructural = 'front'", "structural"),
+     ("lug_count = 400", "overlap")],
+)  # fmt: skip
+def test_toml_errors_name_the_field(tmp_path, text, field):
+    p = tmp_path / "bad.toml"
+    p.write_text(text + "\n")
+    with pytest.raises(InputError, match=field):
+        load_scenario(p)
+
+
+def test_unsupported_model_kind():
+    s = get_scenario("wheel").model_copy(update={"supported_models": ("rft",)})
+    with pytest.raises(InputError, match="supports"):
+        s.build_model("drft")
+    with pytest.raises(InputError, match="unknown scenario"):
+        get_scenario("tank")
