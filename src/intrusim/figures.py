@@ -105,7 +105,12 @@ def fig4b(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
 def fig5ab(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
     """Fig 5A-B: wheel, RFT vs DRFT vs DRFT without the structural correction (lambda = 1)."""
     s = _quick(grousered_wheel_scenario(), quick)
-    cases = [("RFT", s, "rft", None), ("DRFT", s, "drft", None), ("DRFT, inertial only", s, "drft-inertial", None)]
+    fm = s.force_model.model_copy(update=dict(structural="wheel-rear-half-effective"))
+    s_eff = s.model_copy(update=dict(force_model=fm))
+    cases = [
+        ("RFT", s, "rft", None), ("DRFT", s, "drft", None), ("DRFT, inertial only", s, "drft-inertial", None),
+        ("DRFT, arc ends at lowered rear surface", s_eff, "drft", None),
+    ]  # fmt: skip
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
     return _write(out, "fig5ab", _curves(cases, rpm, parallel), "Fig 5A-B: grousered wheel (Table S1)")
 

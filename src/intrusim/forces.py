@@ -24,10 +24,12 @@ import numpy as np
 from intrusim._checks import InputError, finite, non_negative
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
-from intrusim.laws.drft import FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, inertial_traction
+from intrusim.laws.drft import MID_ANGLE_TIE, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, inertial_traction
 from intrusim.laws.rft import A_COEF, B_COEF, C_COEF, D_COEF, N_PER_CM3, rft_traction
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
+Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
+STRUCTURAL_MODELS: tuple[str, ...] = ("none", "wheel-rear-half", "wheel-rear-half-effective")
 
 
 class ForceModel(Protocol):
@@ -82,15 +84,17 @@ def _wrench_kernel(
     c, s = np.cos(theta), np.sin(theta)
     n_el = mid.shape[0]
     phi_mid = 0.0
-    if fs_mode == 1:  # contact arc of submerged elements, seen from the centre, from straight down
+    if fs_mode >= 1:  # contact arc seen from the centre, angles from straight down, + forward
         lo, hi, any_sub = 1e300, -1e300, False
         for i in range(n_el):
             rx = c * mid[i, 0] - s * mid[i, 1]
             rz = s * mid[i, 0] + c * mid[i, 1]
-            if z + rz < surface_z:
-                phi = np.arctan2(forward * rx, -rz)
+            phi = np.arctan2(forward * rx, -rz)
+            # mode 1: below the undisturbed surface; mode 2: behind the lowest point, below z = -dh
+            level = surface_z - dh if (fs_mode == 2 and phi < 0.0) else surface_z
+            if z + rz < level:
                 lo, hi, any_sub = min(lo, phi), max(hi, phi), True
-        phi_mid = 0.5 * (lo + hi) if any_sub else -1e300
+        phi_mid = 0.5 * (lo + hi) - MID_ANGLE_TIE if any_sub else -1e300
     fx = 0.0
     fz = 0.0
     mom = 0.0
@@ -105,7 +109,7 @@ def _wrench_kernel(
         if vn <= 0.0:  # leading-edge rule
             continue
         depth = z + rz - surface_z
-        if fs_mode == 1 and np.arctan2(forward * rx, -rz) < phi_mid:
+        if fs_mode >= 1 and np.arctan2(forward * rx, -rz) < phi_mid:
             depth += dh
         if depth >= 0.0:
             continue
@@ -203,7 +207,7 @@ def make_force_model(
     xi: float = 0.35,
     rho: float = 638.0,
     lam: float = 1.0,
-    structural: Literal["none", "wheel-rear-half"] = "none",
+    structural: Structural = "none",
     surface_z: float = 0.0,
     elements: SurfaceElements | None = None,
 ) -> ResistiveForceModel:
@@ -213,7 +217,9 @@ def make_force_model(
         ``"rft"``: quasistatic RFT (Eq. 3), lambda and structural correction ignored.
         ``"drft-inertial"``: RFT + lambda rho v_n^2 only (Fig 4B, Fig 5 dashed).
         ``"drft"``: RFT + inertial + structural correction (Eq. 4); ``structural`` selects
-        the free-surface model (``"wheel-rear-half"`` for wheels, ``"none"`` for plates/runners).
+        the free-surface model (``"wheel-rear-half"`` for wheels, ``"none"`` for plates/runners;
+        ``"wheel-rear-half-effective"``: the contact arc ends at the lowered rear surface, see
+        :class:`~intrusim.laws.drft.WheelRearHalf`).
     """
     els = shape.elements if elements is None else elements
     if kind == "rft":
@@ -221,8 +227,12 @@ def make_force_model(
     if kind == "drft-inertial":
         return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, surface_z=surface_z)
     if kind == "drft":
-        fs: FreeSurfaceModel = WheelRearHalf(shape.radius) if structural == "wheel-rear-half" else FlatFreeSurface()
-        if structural not in ("none", "wheel-rear-half"):
-            raise InputError(f"structural must be 'none' or 'wheel-rear-half', got {structural!r}")
+        if structural not in STRUCTURAL_MODELS:
+            raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
+        fs: FreeSurfaceModel = FlatFreeSurface()
+        if structural == "wheel-rear-half":
+            fs = WheelRearHalf(shape.radius)
+        elif structural == "wheel-rear-half-effective":
+            fs = WheelRearHalf(shape.radius, split="effective")
         return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z)
     raise InputError(f"force model kind must be 'rft', 'drft-inertial' or 'drft', got {kind!r}")

@@ -19,12 +19,22 @@ def random_states(n, seed=0):
                         rng.uniform(-1, 1), rng.uniform(-0.3, 0.3), rng.uniform(-12, 12))  # fmt: skip
 
 
+@pytest.mark.parametrize("structural", ["wheel-rear-half", "wheel-rear-half-effective"])
 @pytest.mark.parametrize("kind", KINDS)
-def test_compiled_matches_numpy_laws(kind):
-    m = make_force_model(kind, WHEEL, structural="wheel-rear-half")
-    for st in random_states(100):
+def test_compiled_matches_numpy_laws(kind, structural):
+    m = make_force_model(kind, WHEEL, structural=structural)
+    for st in random_states(300):
         a, b = m.wrench(st).as_array(), m.wrench_numpy(st).as_array()
         assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * (1 + np.abs(b).max()))
+
+
+def test_effective_split_is_stronger_than_submerged_split():
+    # same state, dh > 0: ending the contact arc at the lowered rear surface moves the split
+    # forward, so more of the wheel sees the lowered surface and the support drops
+    st = BodyState(0.0, 0.075, 0.0, 0.4, 0.0, -3 * np.pi)
+    sub = make_force_model("drft", WHEEL, structural="wheel-rear-half").wrench(st)
+    eff = make_force_model("drft", WHEEL, structural="wheel-rear-half-effective").wrench(st)
+    assert eff.fz < 0.9 * sub.fz
 
 
 def test_models_differ_as_they_should():

@@ -16,7 +16,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from intrusim._checks import finite, non_negative, positive
+from intrusim._checks import InputError, finite, non_negative, positive
 from intrusim.params import GRAVITY
 
 
@@ -68,6 +68,15 @@ def travel_sign(omega: float, vx: float) -> float:
     return -1.0 if vx < 0.0 else 1.0
 
 
+MID_ANGLE_TIE = 1e-9  # rad: an element this close to the mid-angle counts as front
+
+
+def contact_angle(position: np.ndarray, centre: np.ndarray, forward: float) -> np.ndarray:
+    """Angle of each element seen from the wheel centre, from straight down, positive forward (rad)."""
+    rel = np.asarray(position, float) - np.asarray(centre, float)
+    return np.arctan2(forward * rel[:, 0], -rel[:, 1])
+
+
 def rear_half_mask(
     position: np.ndarray, centre: np.ndarray, submerged: np.ndarray, forward: float
 ) -> np.ndarray:
@@ -77,12 +86,11 @@ def rear_half_mask(
     centre from straight down, positive towards the travel direction ``forward`` (+-1).
     Returns a boolean mask (all False when nothing is submerged).
     """
-    rel = np.asarray(position, float) - np.asarray(centre, float)
-    phi = np.arctan2(forward * rel[:, 0], -rel[:, 1])
+    phi = contact_angle(position, centre, forward)
     if not np.any(submerged):
         return np.zeros(len(phi), dtype=bool)
     mid = 0.5 * (phi[submerged].min() + phi[submerged].max())
-    return phi < mid
+    return phi < mid - MID_ANGLE_TIE  # evenly spaced elements can sit exactly on the mid-angle
 
 
 class FreeSurfaceModel(Protocol):
@@ -105,33 +113,57 @@ class FlatFreeSurface:
         return 0, 0.0, 1.0
 
 
+SPLITS = ("submerged", "effective")
+
+
 @dataclass(frozen=True)
 class WheelRearHalf:
     """The paper's wheel model: dh = r psi(r omega^2 / g) on the rear half of the contact arc.
+
+    The paper splits "the contact area between sand and wheel" in two equal halves by the angle
+    it subtends at the wheel centre, without saying where the contact ends at the rear. Two
+    readings, selected by ``split``:
+
+    * ``"submerged"`` (default, the literal reading): the arc spans every element below the
+      undisturbed surface z = 0, front and rear;
+    * ``"effective"``: the arc ends at the rear where the wheel meets the LOWERED rear surface
+      z = -dh (elements behind the lowest point count only if below -dh), so the split moves
+      forward as dh grows. This reading makes the correction much stronger (docs/rft.md).
 
     Attributes
     ----------
     radius : r, m (nominal wheel radius).
     gravity : g, m/s^2.
     psi : dimensionless law, identity by default.
+    split : "submerged" or "effective".
     """
 
     radius: float
     gravity: float = GRAVITY
     psi: Callable[[float], float] = identity_psi
+    split: str = "submerged"
 
     def __post_init__(self) -> None:
         positive("radius", self.radius)
         positive("gravity", self.gravity)
+        if self.split not in SPLITS:
+            raise InputError(f"split must be one of {SPLITS}, got {self.split!r}")
 
     def drop(self, omega: float) -> float:
         return structural_depth_shift(self.radius, omega, self.gravity, self.psi)
 
     def depth_shift(self, position, centre, omega, vx, surface_z):  # noqa: D102
-        submerged = np.asarray(position)[:, 1] < surface_z
-        rear = rear_half_mask(position, centre, submerged, travel_sign(omega, vx))
-        return np.where(rear, self.drop(omega), 0.0)
+        fwd = travel_sign(omega, vx)
+        dh = self.drop(omega)
+        depth = np.asarray(position)[:, 1] - surface_z
+        if self.split == "effective":
+            behind = contact_angle(position, centre, fwd) < 0.0
+            contact = np.where(behind, depth + dh < 0.0, depth < 0.0)
+        else:
+            contact = depth < 0.0
+        rear = rear_half_mask(position, centre, contact, fwd)
+        return np.where(rear, dh, 0.0)
 
     def kernel_params(self, omega: float, vx: float) -> tuple[int, float, float]:
-        """(mode, dh, forward sign) for the compiled force kernel: mode 1 = rear-half drop."""
-        return 1, self.drop(omega), travel_sign(omega, vx)
+        """(mode, dh, forward sign) for the compiled force kernel: mode 1 = submerged split, 2 = effective."""
+        return (1 if self.split == "submerged" else 2), self.drop(omega), travel_sign(omega, vx)

@@ -55,13 +55,14 @@ class ForceModelConfig(Config):
     xi : media scaling coefficient of the Li (2013) fit (poppy seeds 0.35, Table S1).
     rho : media density of the inertial correction, kg/m^3 (rho_c = 638 for poppy seeds).
     lam : lambda of the inertial correction (wheel 1; runner 0, 2 or 4; plate drag 1.1).
-    structural : dynamic structural correction: "wheel-rear-half" (wheels) or "none".
+    structural : dynamic structural correction: "wheel-rear-half" (wheels), "none", or
+        "wheel-rear-half-effective" (the contact arc ends at the lowered rear surface).
     """
 
     xi: float = Field(0.35, ge=0.0)
     rho: float = Field(638.0, ge=0.0)
     lam: float = Field(1.0, ge=0.0)
-    structural: Literal["none", "wheel-rear-half"] = "none"
+    structural: Literal["none", "wheel-rear-half", "wheel-rear-half-effective"] = "none"
 
 
 class RunConfig(Config):
