@@ -139,17 +139,23 @@ def sweep(
 
 @app.command()
 def reproduce(
-    figure: str = typer.Argument(..., help="fig4b, fig5ab, fig7bc, figs1 or fig6a."),
+    figure: str = typer.Argument(..., help="fig3ab, fig3cd, fig4b, fig5ab, fig5c, fig5d, fig6a, fig7bc or figs1."),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG and CSV."),
     quick: bool = typer.Option(False, help="Coarse, fast version."),
     parallel: bool = typer.Option(True, help="Run the omega sweeps on a Dask cluster."),
+    mpm: bool = typer.Option(False, help="Add the MPM points to fig5ab, fig7bc, figs1 (long: runs MPM sweeps)."),
+    runs: Path = typer.Option(None, help="Folder of MPM run folders (default runs/mpm or runs/mpm-quick)."),
 ) -> None:
-    """Reproduce one of the paper's RFT/DRFT figures (PNG + CSV of the plotted numbers)."""
+    """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
+
+    RFT/DRFT: fig4b, fig5ab, fig6a, fig7bc, figs1. MPM (runs the continuum solver, or reuses
+    finished run folders under --runs): fig3ab, fig3cd, fig5c, fig5d, and --mpm on the others.
+    """
     from intrusim.figures import FIGURES
 
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
-    for p in FIGURES[figure](out, quick=quick, parallel=parallel):
+    for p in FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm):
         typer.echo(str(p))
 
 

@@ -20,6 +20,15 @@ import numpy as np  # noqa: E402
 
 from intrusim.analysis.plates import fit_static_plus_inertial  # noqa: E402
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
+from intrusim.figures_mpm import (  # noqa: E402
+    MPM_FIGURES,
+    MPM_RUNNER_RPM,
+    MPM_RUNNER_RPM_QUICK,
+    MPM_SMALL_WHEEL_RPM,
+    MPM_WHEEL_RPM,
+    MPM_WHEEL_RPM_QUICK,
+    with_mpm,
+)
 from intrusim.scenarios import (  # noqa: E402
     LocomotorScenario,
     drag_force_table,
@@ -65,8 +74,9 @@ def _write(
         w = res.omega_rpm * RPM / s.omega_0
         v = res.column("velocity") / s.velocity_scale
         h = res.column("sinkage") / s.length_scale
-        a1.plot(w, v, "o-", label=label, ms=3)
-        a2.plot(w, h, "o-", label=label, ms=3)
+        style = dict(color="k", ls="--", marker="o", ms=5, mfc="w") if label.startswith("MPM") else dict(marker="o", ms=3)
+        a1.plot(w, v, label=label, **style)
+        a2.plot(w, h, label=label, **style)
         for r, wi, vi, hi in zip(res.records, w, v, h):
             rows.append({
                 "curve": label, "scenario": s.name, "model": res.kind, "lambda": res.lam if res.lam is not None else s.force_model.lam,
@@ -93,7 +103,7 @@ def _csv(path: Path, rows: list[dict[str, Any]]) -> None:
         w.writerows(rows)
 
 
-def fig4b(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+def fig4b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
     """Fig 4B: wheel, RFT + inertial correction only, lambda in {0, 1, 25, 50, 100}."""
     s = _quick(grousered_wheel_scenario(), quick)
     lams = (0.0, 25.0, 100.0) if quick else (0.0, 1.0, 25.0, 50.0, 100.0)
@@ -102,8 +112,9 @@ def fig4b(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
     return _write(out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)")
 
 
-def fig5ab(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
-    """Fig 5A-B: wheel, RFT vs DRFT vs DRFT without the structural correction (lambda = 1)."""
+def fig5ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+    """Fig 5A-B: wheel, RFT vs DRFT vs DRFT without the structural correction (lambda = 1); ``mpm``
+    adds the MPM points (the paper compares with experiments, which are not available as data)."""
     s = _quick(grousered_wheel_scenario(), quick)
     fm = s.force_model.model_copy(update=dict(structural="wheel-rear-half-effective"))
     s_eff = s.model_copy(update=dict(force_model=fm))
@@ -112,26 +123,36 @@ def fig5ab(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
         ("DRFT, arc ends at lowered rear surface", s_eff, "drft", None),
     ]  # fmt: skip
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
-    return _write(out, "fig5ab", _curves(cases, rpm, parallel), "Fig 5A-B: grousered wheel (Table S1)")
+    curves = _curves(cases, rpm, parallel)
+    if mpm:
+        curves = with_mpm(curves, s, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs)
+    return _write(out, "fig5ab", curves, "Fig 5A-B: grousered wheel (Table S1)")
 
 
-def fig7bc(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
-    """Fig 7B-C: four-flap runner, DRFT (inertial correction only), lambda in {0, 2, 4}."""
+def fig7bc(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+    """Fig 7B-C: four-flap runner, DRFT (inertial correction only), lambda in {0, 2, 4}; ``mpm`` adds MPM."""
     s = _quick(four_flap_runner_scenario(), quick)
     cases = [(f"DRFT lambda={lam:g}", s, "drft", lam) for lam in (0.0, 2.0, 4.0)]
     rpm = RUNNER_RPM_QUICK if quick else RUNNER_RPM
-    return _write(out, "fig7bc", _curves(cases, rpm, parallel), "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
+    curves = _curves(cases, rpm, parallel)
+    if mpm:
+        curves = with_mpm(curves, s, MPM_RUNNER_RPM_QUICK if quick else MPM_RUNNER_RPM, quick, parallel, runs)
+    return _write(out, "fig7bc", curves, "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
 
 
-def figs1(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
-    """Fig S1: DRFT for the Table S1 wheel and the half-size wheel (each with its own l)."""
-    cases = [("wheel D=212 mm", _quick(grousered_wheel_scenario(), quick), "drft", None),
-             ("small wheel D=106 mm", _quick(small_wheel_scenario(), quick), "drft", None)]  # fmt: skip
+def figs1(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+    """Fig S1: DRFT for the Table S1 wheel and the half-size wheel (each with its own l); ``mpm`` adds MPM."""
+    big, small = _quick(grousered_wheel_scenario(), quick), _quick(small_wheel_scenario(), quick)
+    cases = [("wheel D=212 mm", big, "drft", None), ("small wheel D=106 mm", small, "drft", None)]
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
-    return _write(out, "figs1", _curves(cases, rpm, parallel), "Fig S1: DRFT, two wheel sizes")
+    curves = _curves(cases, rpm, parallel)
+    if mpm:
+        curves = with_mpm(curves, big, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs, "MPM wheel D=212 mm")
+        curves = with_mpm(curves, small, MPM_WHEEL_RPM_QUICK if quick else MPM_SMALL_WHEEL_RPM, quick, parallel, runs, "MPM small wheel D=106 mm")
+    return _write(out, "figs1", curves, "Fig S1: DRFT, two wheel sizes")
 
 
-def fig6a(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
+def fig6a(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
     """Fig 6A: DRFT drag on a vertical plate vs speed at 20/30/40 mm; fit K|z| + lambda rho A v^2."""
     s = plate_drag_scenario()
     s = s.model_copy(update={"speeds": list(np.geomspace(0.04, 0.64, 5 if quick else 9))})
@@ -162,4 +183,6 @@ def fig6a(out: Path, quick: bool = False, parallel: bool = True) -> list[Path]:
     return [png, csv_path]
 
 
-FIGURES: dict[str, Callable[..., list[Path]]] = {"fig4b": fig4b, "fig5ab": fig5ab, "fig7bc": fig7bc, "figs1": figs1, "fig6a": fig6a}
+FIGURES: dict[str, Callable[..., list[Path]]] = {
+    "fig4b": fig4b, "fig5ab": fig5ab, "fig7bc": fig7bc, "figs1": figs1, "fig6a": fig6a, **MPM_FIGURES,
+}  # fmt: skip

@@ -77,12 +77,16 @@ class SweepResult:
         return "\n".join(lines)
 
     def to_csv(self, path: str | Path) -> Path:
+        """Write the records: the standard FIELDS first, then any model-specific ones (e.g. MPM's
+        rear surface drop and wall time)."""
         p = Path(path)
+        extra = sorted({k for r in self.records for k in r} - set(FIELDS))
+        names = list(FIELDS) + extra
         with p.open("w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=FIELDS, extrasaction="ignore")
+            w = csv.DictWriter(f, fieldnames=names, extrasaction="ignore")
             w.writeheader()
             for r in self.records:
-                w.writerow({k: r.get(k, "") for k in FIELDS})
+                w.writerow({k: r.get(k, "") for k in names})
         return p
 
 

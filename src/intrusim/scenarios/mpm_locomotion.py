@@ -30,6 +30,7 @@ from pydantic import Field
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage
+from intrusim.geometry import signed_area
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
 from intrusim.scenarios.locomotor import LocomotorScenario
@@ -216,6 +217,12 @@ def run_mpm_steady(
     cfg = mpm_config(scenario, settings, omega_rpm, out_dir)
     s = settings
     solver = Solver(cfg)
+    if out_dir is not None:
+        import json
+
+        Path(out_dir).mkdir(parents=True, exist_ok=True)
+        info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
+        (Path(out_dir) / "locomotion.json").write_text(json.dumps(info, indent=1))
     body = solver.intruders[0]
     outline = np.asarray(body.contact.vertices)
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
@@ -258,8 +265,31 @@ def run_mpm_steady(
             break
     wall = time.perf_counter() - wall0
     rows = solver.rows
-    series = {k: np.array([r[k] for r in rows], float) for k in ("time", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")}
-    series["sinkage"] = outline_sinkage(outline, series["z"], series["theta"], s.bed_depth)
+    series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
+    meta = {"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept]}
+    return steady_from_series(
+        series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta
+    )
+
+
+SERIES_KEYS = ("time", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")
+
+
+def steady_from_series(
+    series: dict[str, np.ndarray],
+    outline: np.ndarray,
+    bed_depth: float,
+    t_avg: float,
+    whole_revolutions: bool,
+    drops: list[tuple[float, float]],
+    wall_time: float = math.nan,
+    steps: int = 0,
+    meta: dict[str, Any] | None = None,
+) -> MPMSteadyState:
+    """Average an MPM locomotion time series over t > ``t_avg`` (see the module docstring)."""
+    series = dict(series)
+    radius = float(np.max(np.linalg.norm(outline, axis=1)))
+    series["sinkage"] = outline_sinkage(outline, series["z"], series["theta"], bed_depth)
     t = series["time"]
     if t[-1] <= t_avg:
         raise InputError(
@@ -267,21 +297,90 @@ def run_mpm_steady(
             f"at {t_avg:.3g} s: use a longer bed, a smaller start_x or a shorter settle_time"
         )
     omega = abs(float(series["omega"][-1]))
-    sel = _window_mask(t, t_avg, omega, whole_revolutions=scenario.body == "runner")
+    sel = _window_mask(t, t_avg, omega, whole_revolutions)
     v, sk = series["vx"][sel], series["sinkage"][sel]
     half = len(v) // 2
     v_mean = float(v.mean())
     drift = max(abs(v[half:].mean() - v[:half].mean()) / max(abs(v_mean), 1e-12), abs(sk[half:].mean() - sk[:half].mean()) / radius) if half else 0.0
-    dh = np.array([d for _, d in drops], float)
+    dh = np.array([d for t_d, d in drops if t_d > t_avg], float)
     dh_ok = dh[np.isfinite(dh)]
     return MPMSteadyState(
         omega=omega, velocity=v_mean, sinkage=float(sk.mean()), slip=1.0 - v_mean / (radius * omega),
         velocity_std=float(v.std()), sinkage_std=float(sk.std()), drift=float(drift), settled=bool(drift < 0.05),
         surface_drop=float(dh_ok.mean()) if len(dh_ok) else math.nan,
         surface_drop_std=float(dh_ok.std()) if len(dh_ok) else math.nan,
-        window=(float(t[sel][0]), float(t[-1])), radius=radius, wall_time=wall, steps=solver.step_count,
-        series=series, meta={"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept]},
+        window=(float(t[sel][0]), float(t[-1])), radius=radius, wall_time=wall_time, steps=steps,
+        series=series, meta=meta or {},
     )  # fmt: skip
+
+
+def fields_drop(path: str | Path, bed_depth: float, rho_c: float, gravity: float, h: float) -> tuple[float, float]:
+    """(t, dh) of one saved particle snapshot (``fields_*.npz`` of a run folder)."""
+    d = np.load(path)
+    x, z, th = (float(v) for v in d["body"][:3])
+    c, s = np.cos(th), np.sin(th)
+    poly = d["outline"] @ np.array([[c, s], [-s, c]]) + [x, z]
+    dh = rear_contact_drop(d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=h, pressure_tol=0.5 * rho_c * gravity * h)
+    return float(d["t"]), dh
+
+
+def summarise_run(run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel") -> MPMSteadyState:
+    """Recompute the steady state of a finished (or interrupted) run folder.
+
+    Reads ``timeseries.csv`` and ``config.json`` (written by the solver), the settings from
+    ``locomotion.json`` when present (else ``settings`` or :func:`paper_settings` of ``body``), and
+    the rear surface drop from the saved ``fields_*.npz`` snapshots.
+    """
+    import csv
+    import json
+
+    run_dir = Path(run_dir)
+    ts = run_dir / "timeseries.csv"
+    if not ts.exists():
+        raise InputError(f"{run_dir} has no timeseries.csv")
+    info_path = run_dir / "locomotion.json"
+    if info_path.exists():
+        info = json.loads(info_path.read_text())
+        settings, body = MPMSettings.model_validate(info["settings"]), info["body"]
+    settings = settings or paper_settings(body)
+    cfg = json.loads((run_dir / "config.json").read_text())["config"]
+    with ts.open() as f:
+        rows = list(csv.DictReader(f))
+    series = {k: np.array([float(r[k]) for r in rows]) for k in SERIES_KEYS}
+    outline = np.asarray(cfg["intruders"][0]["vertices"], float)
+    if signed_area(outline) < 0:
+        outline = outline[::-1]
+    gravity = -float(cfg["gravity"][1])
+    h = float(cfg["domain"]["size"][0]) / int(cfg["domain"]["cells"][0])
+    drops = [fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))]
+    return steady_from_series(
+        series, outline, settings.bed_depth, settings.ramp_time + settings.settle_time, body == "runner", drops,
+        meta={"run_dir": str(run_dir)},
+    )  # fmt: skip
+
+
+def write_result(run_dir: str | Path, st: MPMSteadyState) -> Path:
+    """Mark a run folder finished: ``result.json`` holds the steady-state summary."""
+    import json
+
+    path = Path(run_dir) / "result.json"
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str))
+    tmp.replace(path)
+    return path
+
+
+def load_result(run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel") -> MPMSteadyState:
+    """A finished run: time series from the folder, the scalars measured during the run from
+    ``result.json`` (the rear surface drop is averaged over every snapshot of the window there,
+    over the few kept ``fields_*.npz`` in :func:`summarise_run`)."""
+    import json
+    from dataclasses import replace
+
+    st = summarise_run(run_dir, settings, body)
+    res = json.loads((Path(run_dir) / "result.json").read_text())
+    keep = {k: res[k] for k in ("surface_drop", "surface_drop_std", "wall_time") if k in res}
+    return replace(st, steps=int(res.get("steps", 0)), **keep)
 
 
 class MPMLocomotion(Config):
@@ -307,8 +406,16 @@ class MPMLocomotion(Config):
         """Steady state at ``omega_rpm`` (``kind`` must be "mpm"; ``lam`` is not used by MPM)."""
         if kind != "mpm":
             raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
-        out = None
-        if self.out_root is not None:
-            out = Path(self.out_root) / f"{self.scenario.name}_{omega_rpm:g}rpm"
-            out.mkdir(parents=True, exist_ok=True)
-        return run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
+        out = self.run_dir(omega_rpm)
+        if out is not None and (out / "result.json").exists():  # finished before: reuse
+            return load_result(out, self.mpm, self.scenario.body)
+        st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
+        if out is not None:
+            write_result(out, st)
+        return st
+
+    def run_dir(self, omega_rpm: float) -> Path | None:
+        """The run folder of one omega (None without ``out_root``)."""
+        if self.out_root is None:
+            return None
+        return Path(self.out_root) / f"{self.scenario.name}_{omega_rpm:g}rpm"

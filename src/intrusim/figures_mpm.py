@@ -1,0 +1,205 @@
+"""The paper's MPM figures (Fig 3A-D, 5C-D) and MPM overlays on the RFT/DRFT figures.
+
+MPM points come from :class:`~intrusim.scenarios.mpm_locomotion.MPMLocomotion` sweeps whose run
+folders live under ``runs`` (default ``runs/mpm``, or ``runs/mpm-quick`` with ``quick``): a point
+whose folder holds ``result.json`` is reused, a missing one is computed (Dask sweep) and kept.
+Full-resolution wheel sweeps take about an hour on 2 cores; ``quick`` uses 2 cm cells.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
+from intrusim.scenarios import LocomotorScenario  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
+
+MPM_WHEEL_RPM = np.arange(10.0, 91.0, 10.0)
+MPM_WHEEL_RPM_QUICK = np.array([10.0, 50.0, 90.0])
+MPM_SMALL_WHEEL_RPM = np.array([30.0, 60.0, 90.0])
+MPM_RUNNER_RPM = np.array([20.0, 50.0, 100.0, 150.0, 200.0, 300.0])
+MPM_RUNNER_RPM_QUICK = np.array([30.0, 100.0])
+RPM = 2 * np.pi / 60
+
+
+def runs_root(runs: Path | None, quick: bool) -> Path:
+    return Path(runs) if runs is not None else Path("runs") / ("mpm-quick" if quick else "mpm")
+
+
+def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
+    settings = quick_settings(scenario.body) if quick else paper_settings(scenario.body)
+    return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
+
+
+def mpm_sweep(
+    scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None
+) -> SweepResult:
+    """MPM steady states at ``rpm`` (reusing finished run folders)."""
+    import os
+
+    case = mpm_case(scenario, quick, runs)
+    missing = [w for w in rpm if not (case.run_dir(w) / "result.json").exists()]  # type: ignore[operator]
+    if parallel and len(missing) > 1:
+        workers = min(len(missing), os.cpu_count() or 1)
+        case = case.model_copy(update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers)))))
+    return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
+
+
+def mpm_curve(label: str, scenario: LocomotorScenario, res: SweepResult) -> tuple[str, LocomotorScenario, SweepResult]:
+    return (label, scenario, res)
+
+
+def _save(fig: Any, out: Path, name: str, rows: list[dict[str, Any]]) -> list[Path]:
+    from intrusim.figures import _csv
+
+    out.mkdir(parents=True, exist_ok=True)
+    png, csv_path = out / f"{name}.png", out / f"{name}.csv"
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+    _csv(csv_path, rows)
+    return [png, csv_path]
+
+
+def fig3ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+    """Fig 3A-B: MPM wheel, steady velocity and sinkage vs omega (non-dimensional)."""
+    from intrusim.figures import _write
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    s = grousered_wheel_scenario()
+    res = mpm_sweep(s, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs)
+    return _write(out, "fig3ab", [("MPM", s, res)], "Fig 3A-B: grousered wheel, MPM (Table S1 set-up)")
+
+
+def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+    """Fig 5C: rear free-surface drop dh from MPM vs omega, against dh = r (r omega^2 / g).
+
+    Also fits psi(x) = a x (least squares through the origin) and reports a (paper: a = 1).
+    """
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    s = grousered_wheel_scenario()
+    res = mpm_sweep(s, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs)
+    w = res.omega_rpm * RPM
+    r = s.radius
+    x = r * w**2 / s.gravity
+    dh = res.column("surface_drop")
+    ok = np.isfinite(dh)
+    a = float(np.sum(x[ok] * dh[ok] / r) / np.sum(x[ok] ** 2)) if ok.any() else np.nan
+    fig, ax = plt.subplots(figsize=(4.8, 3.6))
+    ax.plot(res.omega_rpm, dh * 1e3, "o", color="tab:red", label="MPM (highest loaded rear contact)")
+    ww = np.linspace(0, res.omega_rpm.max(), 100)
+    law = r * (r * (ww * RPM) ** 2 / s.gravity)
+    ax.plot(ww, law * 1e3, ":", color="tab:blue", label=r"$\delta h = r\,(r\omega^2/g)$ (paper)")
+    ax.plot(ww, a * law * 1e3, "-", lw=0.8, color="0.4", label=rf"fit $\psi = {a:.2f}\,x$")
+    ax.set(xlabel=r"$\omega$ (RPM)", ylabel=r"$\delta h$ (mm)", title="Fig 5C: rear free-surface drop")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    rows = [{"omega_rpm": o, "r_omega2_over_g": xi, "dh_mpm_m": d, "dh_paper_law_m": r * xi, "fit_a": a}
+            for o, xi, d in zip(res.omega_rpm, x, dh)]  # fmt: skip
+    return _save(fig, out, "fig5c", rows)
+
+
+def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> dict[str, np.ndarray]:
+    """The last saved particle snapshot of a run (running it first if needed)."""
+    case = mpm_case(scenario, quick, runs)
+    run_dir = case.run_dir(rpm)
+    if run_dir is None or not (run_dir / "result.json").exists():
+        case.run_steady("mpm", rpm)
+    files = sorted(run_dir.glob("fields_*.npz"))  # type: ignore[union-attr]
+    if not files:
+        raise FileNotFoundError(f"{run_dir} has no fields_*.npz snapshot")
+    return dict(np.load(files[-1]))
+
+
+def _body_polygon(d: dict[str, np.ndarray]) -> np.ndarray:
+    x, z, th = (float(v) for v in d["body"][:3])
+    c, s = np.cos(th), np.sin(th)
+    return d["outline"] @ np.array([[c, s], [-s, c]]) + [x, z]
+
+
+def _field_panel(ax: Any, d: dict[str, np.ndarray], values: np.ndarray, norm: Any, cmap: str, half_width: float) -> Any:
+    x0, z0 = float(d["body"][0]), float(d["body"][1])
+    sel = np.abs(d["x"][:, 0] - x0) < half_width
+    sc = ax.scatter(d["x"][sel, 0] - x0, d["x"][sel, 1], c=values[sel], s=2.0, cmap=cmap, norm=norm, linewidths=0)
+    poly = _body_polygon(d)
+    ax.fill(poly[:, 0] - x0, poly[:, 1], color="orange", alpha=0.8, ec="k", lw=0.5)
+    ax.set_aspect("equal")
+    ax.set_xlim(-half_width, half_width)
+    ax.set_ylim(z0 - 0.25, z0 + 0.08)
+    return sc
+
+
+def fig3cd(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+    """Fig 3C-D: grain velocity under the wheel at 30 and 60 RPM (MPM), and the profile below the centre.
+
+    Arrows: grain velocity in the lab frame; colour: speed. The profile is the horizontal grain
+    velocity along the vertical line through the wheel centre (particles within one cell of it).
+    """
+    from matplotlib.colors import Normalize
+
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    s = grousered_wheel_scenario()
+    h = (quick_settings if quick else paper_settings)("wheel").h
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), gridspec_kw={"width_ratios": [1, 1, 0.7]})
+    rows: list[dict[str, Any]] = []
+    for ax, rpm in zip(axes[:2], (30.0, 60.0)):
+        d = _fields(s, rpm, quick, runs)
+        speed = np.linalg.norm(d["v"], axis=1)
+        sc = _field_panel(ax, d, speed, Normalize(0, 0.5), "viridis", 0.3)
+        x0 = float(d["body"][0])
+        q = np.abs(d["x"][:, 0] - x0) < 0.3
+        q &= speed > 0.01
+        step = max(1, int(q.sum() // 600))
+        idx = np.flatnonzero(q)[::step]
+        ax.quiver(d["x"][idx, 0] - x0, d["x"][idx, 1], d["v"][idx, 0], d["v"][idx, 1], scale=8, width=0.002)
+        ax.set_title(f"{rpm:g} RPM, t = {float(d['t']):.2f} s", fontsize=9)
+        ax.set_xlabel("x - x_wheel (m)")
+        column = np.abs(d["x"][:, 0] - x0) < h
+        below = column & (d["x"][:, 1] < float(d["body"][1]))
+        order = np.argsort(-d["x"][below, 1])
+        depth = float(d["body"][1]) - d["x"][below, 1][order]
+        vx = d["v"][below, 0][order]
+        axes[2].plot(vx, -depth, ".-", ms=3, label=f"{rpm:g} RPM")
+        rows += [{"omega_rpm": rpm, "depth_below_centre_m": zd, "vx_m_s": v} for zd, v in zip(depth, vx)]
+    fig.colorbar(sc, ax=axes[:2], label="grain speed (m/s)", fraction=0.02)
+    axes[0].set_ylabel("z (m)")
+    axes[2].axvline(0, color="0.6", lw=0.5)
+    axes[2].set(xlabel="grain v_x below the centre (m/s)", ylabel="-(depth below centre) (m)", title="Fig 3D profile")
+    axes[2].legend(fontsize=7)
+    return _save(fig, out, "fig3cd", rows)
+
+
+def fig5d(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+    """Fig 5D: equivalent plastic strain rate under the wheel at 30 and 90 RPM (MPM)."""
+    from matplotlib.colors import LogNorm
+
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    s = grousered_wheel_scenario()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    rows: list[dict[str, Any]] = []
+    for ax, rpm in zip(axes, (30.0, 90.0)):
+        d = _fields(s, rpm, quick, runs)
+        g = np.clip(d["gdot_p"], 0.1, None)
+        sc = _field_panel(ax, d, g, LogNorm(0.1, 100), "inferno", 0.3)
+        ax.set_title(f"{rpm:g} RPM, t = {float(d['t']):.2f} s", fontsize=9)
+        rows.append({"omega_rpm": rpm, "t_s": float(d["t"]), "max_gdot_p": float(d["gdot_p"].max()),
+                     "sheared_area_m2_gdot_gt_1": float(np.sum(d["gdot_p"] > 1.0)) * (np.ptp(d["x"], axis=0).prod() / len(d["x"]))})  # fmt: skip
+    fig.colorbar(sc, ax=axes, label="equivalent plastic strain rate (1/s)", fraction=0.02)
+    return _save(fig, out, "fig5d", rows)
+
+
+def with_mpm(curves: list, scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None, label: str = "MPM") -> list:
+    """Append an MPM curve (computed or reused) to a list of RFT/DRFT curves."""
+    return curves + [(label, scenario, mpm_sweep(scenario, rpm, quick, parallel, runs))]
+
+
+MPM_FIGURES = {"fig3ab": fig3ab, "fig3cd": fig3cd, "fig5c": fig5c, "fig5d": fig5d}
