@@ -22,6 +22,11 @@ velocity direction; backward Euler is unconditionally stable for that linearised
 time step is set by accuracy, not stability. A plain explicit Euler scheme is kept as the
 reference (and to show what instability looks like).
 
+The implicit scheme runs in a compiled (Numba) step loop (``intrusim._implicit_jit``) when the
+force model offers a compiled form (``compiled_spec()``: the RFT/DRFT models); the Python loop
+below is the reference and the fallback (``IntegratorSettings(compiled=False)``). Both take the
+same steps and raise the same errors; they agree to rounding.
+
 Failures (non-finite state, runaway speed or depth, Newton not converging) raise
 :class:`IntegratorError` with the time, the step and the advice to reduce ``dt``.
 """
@@ -135,6 +140,10 @@ class IntegratorSettings:
     max_backtrack : int. Step halvings of the damped Newton update.
     max_halvings : int. A step whose Newton iteration fails is retried in 2, 4, ..., 2^max_halvings
         equal sub-steps before the integration is declared failed.
+    compiled : bool. Run the implicit scheme in the compiled (Numba) step loop when the force
+        model offers a compiled form (``compiled_spec()``: the RFT/DRFT models); False forces
+        the Python loop, which is the reference and the fallback for any other force model.
+        Both take the same steps; they agree to rounding.
     """
 
     dt: float = 2e-3
@@ -149,6 +158,7 @@ class IntegratorSettings:
     contraction: float = 0.5
     max_backtrack: int = 12
     max_halvings: int = 3
+    compiled: bool = True
 
     def __post_init__(self) -> None:
         positive("dt", self.dt)
@@ -166,6 +176,8 @@ class IntegratorSettings:
         positive_int("max_backtrack", self.max_backtrack)
         if int(self.max_halvings) != self.max_halvings or self.max_halvings < 0:
             raise InputError(f"max_halvings must be an integer >= 0, got {self.max_halvings!r}")
+        if not isinstance(self.compiled, bool):
+            raise InputError(f"compiled must be True or False, got {self.compiled!r}")
 
 
 @dataclass(frozen=True)
@@ -352,6 +364,9 @@ def simulate(
     """
     s = settings or IntegratorSettings()
     duration = positive("duration", duration)
+    spec = _compiled_spec(model) if (s.scheme == "implicit" and s.compiled) else None
+    if spec is not None:
+        return _simulate_compiled(spec, model, body, drive, initial, duration, s, t0)
     force = force_function(model)
     dt = s.dt
     n = int(math.ceil(duration / dt - 1e-9))
@@ -403,6 +418,72 @@ def simulate(
             c[i] = v
         iters[i] = it
     return Trajectory(t=t, iterations=iters, meta={"dt": dt, "scheme": s.scheme}, **out)
+
+
+def _compiled_spec(model: Any) -> tuple | None:
+    fn = getattr(model, "compiled_spec", None)
+    return fn() if callable(fn) else None
+
+
+def _simulate_compiled(
+    spec: tuple, model: Any, body: RigidBody, drive: Drive, initial: BodyState, duration: float,
+    s: IntegratorSettings, t0: float,
+) -> Trajectory:  # fmt: skip
+    """The implicit scheme of :func:`simulate` in the compiled loop (``intrusim._implicit_jit``)."""
+    from intrusim import _implicit_jit as jit
+
+    dt = s.dt
+    n = int(math.ceil(duration / dt - 1e-9))
+    t0 = finite("t0", t0)
+    t = t0 + np.arange(n + 1) * dt
+    out = np.empty((9, n + 1))
+    iters = np.zeros(n + 1, dtype=np.int32)
+    info = np.zeros(5)
+    inv_mx, inv_mz = 1.0 / body.mass_x, 1.0 / body.mass_z
+    ax_ext = body.external_fx * inv_mx
+    az_ext = body.external_fz * inv_mz - body.gravity
+    g_rate = s.force_tol_rel * max(body.weight, abs(body.external_fx), abs(body.external_fz), 1.0) * max(inv_mx, inv_mz)
+    surface = float(getattr(model, "surface_z", 0.0))
+    status, i = jit.simulate_implicit(
+        spec, float(drive.omega), float(drive.ramp_time), t0, float(dt), n,
+        float(initial.x), float(initial.z), float(initial.theta), float(initial.vx), float(initial.vz),
+        ax_ext, az_ext, inv_mx, inv_mz, int(s.max_iter), float(s.velocity_tol), float(s.fd_step), int(s.stall_iter),
+        float(s.contraction), int(s.max_backtrack), int(s.max_halvings), g_rate, float(s.max_speed),
+        float(s.max_depth), surface, out, iters, info,
+    )  # fmt: skip
+    if status != jit.OK:
+        raise _compiled_failure(status, info, s)
+    names = ("x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")
+    cols = {k: out[j] for j, k in enumerate(names)}
+    return Trajectory(t=t, iterations=iters, meta={"dt": dt, "scheme": s.scheme}, **cols)
+
+
+def _compiled_failure(status: int, info: np.ndarray, s: IntegratorSettings) -> IntegratorError:
+    """The IntegratorError the Python loop raises for the same failure."""
+    from intrusim import _implicit_jit as jit
+
+    if status == jit.SINGULAR:
+        return _fail("singular Newton Jacobian", info[0], s)
+    if status == jit.NEWTON_NONFINITE:
+        return _fail("non-finite velocity in the Newton iteration", info[0], s)
+    if status == jit.NOT_CONVERGED:
+        last = (
+            f"Newton iteration did not converge in {s.max_iter} iterations (|G| = {info[1]:.3g} m/s, "
+            f"tolerance {info[2]:.3g} m/s) at t = {info[3]:.4g} s with a step of {info[4]:g} s"
+        )
+        return _fail(f"{last} (also in {2**s.max_halvings} sub-steps)", info[0], s)
+    if status == jit.STATE_NONFINITE:
+        return _fail("non-finite state", info[0], s)
+    if status == jit.TOO_FAST:
+        return _fail(f"speed {info[1]:.3g} m/s exceeds max_speed = {s.max_speed:g} m/s (divergence)", info[0], s)
+    if status == jit.TOO_DEEP:
+        return _fail(
+            f"body sank {info[1]:.3g} m below the surface (max_depth = {s.max_depth:g} m): the medium "
+            "does not carry the body, or the integration diverged",
+            info[0],
+            s,
+        )
+    return IntegratorError(f"compiled integrator failed with unknown status {status}")  # pragma: no cover
 
 
 __all__ = ["Drive", "RigidBody", "IntegratorSettings", "IntegratorError", "NewtonNotConverged", "Trajectory", "simulate", "force_function"]

@@ -24,7 +24,9 @@ import numpy as np
 from intrusim._checks import InputError, finite, non_negative
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
-from intrusim.laws.drft import MID_ANGLE_TIE, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, inertial_traction
+from intrusim.laws.drft import (
+    MID_ANGLE_TIE, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
+)  # fmt: skip
 from intrusim.laws.rft import A_COEF, B_COEF, C_COEF, D_COEF, N_PER_CM3, rft_traction
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
@@ -61,11 +63,74 @@ def _alpha_unit(c2b: float, s2b: float, cg: float, sg: float, coef: np.ndarray) 
     return ax, az
 
 
+CHUNK = 16  # elements per culling chunk of the compiled kernel (consecutive elements of the outline)
+
+
+def chunk_bounds(mid: np.ndarray, chunk: int = CHUNK) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding circles (centre (K, 2), radius (K,)) of consecutive runs of ``chunk`` elements.
+
+    The kernel skips a whole run when its circle lies above every contact level, so a wheel
+    pays the full per-element cost only for the ~1/4 of its outline that is submerged. The
+    radius carries a small relative margin, so the culling never drops an element the
+    per-element test would keep (it only saves work; results are unchanged).
+    """
+    n = mid.shape[0]
+    k = (n + chunk - 1) // chunk
+    pad = np.concatenate([mid, np.repeat(mid[-1:], k * chunk - n, axis=0)]).reshape(k, chunk, 2)  # repeats
+    cen = 0.5 * (pad.min(axis=1) + pad.max(axis=1))
+    r = np.sqrt(((pad - cen[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
+    rad = r * (1.0 + 1e-9) + 1e-12 * (1.0 + np.abs(pad).max(axis=(1, 2)))
+    return cen, rad
+
+
+@numba.njit(cache=True)
+def _alpha_consts(coef: np.ndarray) -> np.ndarray:
+    """(2, 9) constants of :func:`_alpha_unit` collected by powers of cos/sin 2 beta.
+
+    With P_m = A[m,0] + A[m,1] cg + B[m,1] sg and Q_m = B[m,0] - A[m,1] sg + B[m,1] cg,
+    alpha_z = c2b (P_-1 + P_1) + P_0 + s2b (Q_1 - Q_-1); row 0 holds the factors of alpha_z
+    (A, B), row 1 those of alpha_x (C, D), each as [c2b: 1, cg, sg | 1: 1, cg, sg | s2b: 1, cg, sg].
+    """
+    out = np.empty((2, 9))
+    for r in range(2):
+        a, b = coef[2 * r], coef[2 * r + 1]
+        out[r, 0] = a[0, 0] + a[2, 0]
+        out[r, 1] = a[0, 1] + a[2, 1]
+        out[r, 2] = b[0, 1] + b[2, 1]
+        out[r, 3] = a[1, 0]
+        out[r, 4] = a[1, 1]
+        out[r, 5] = b[1, 1]
+        out[r, 6] = b[2, 0] - b[0, 0]
+        out[r, 7] = b[2, 1] - b[0, 1]
+        out[r, 8] = a[0, 1] - a[2, 1]
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def _pseudo_angle(y: float, x: float) -> float:
+    """A strictly increasing function of atan2(y, x) on (-pi, pi], in (-2, 2], with no trigonometry.
+
+    Same sign conventions as atan2 (signed zeros included), so p(y, x) < 0 exactly when
+    atan2(y, x) < 0; comparing pseudo-angles orders directions like comparing angles.
+    """
+    d = abs(y) + abs(x)
+    if d == 0.0:
+        return np.arctan2(y, x) * (2.0 / np.pi)  # 0, -0, +-2 like atan2's +-0, +-pi
+    r = y / d
+    if x >= 0.0:
+        return r
+    if y > 0.0 or (y == 0.0 and np.copysign(1.0, y) > 0.0):
+        return 2.0 - r
+    return -2.0 - r
+
+
 @numba.njit(cache=True)
 def _wrench_kernel(
     mid: np.ndarray,
     nrm: np.ndarray,
     area: np.ndarray,
+    ccen: np.ndarray,
+    crad: np.ndarray,
     x: float,
     z: float,
     theta: float,
@@ -80,27 +145,65 @@ def _wrench_kernel(
     dh: float,
     forward: float,
 ) -> tuple[float, float, float]:
-    """Sum of DRFT element forces t dA, t = alpha H(-z~)|z~| - n lam rho v_n^2 (Eq. 4), and moment."""
+    """Sum of DRFT element forces t dA, t = alpha H(-z~)|z~| - n lam rho v_n^2 (Eq. 4), and moment.
+
+    ``ccen``, ``crad``: bounding circles of runs of CHUNK consecutive elements (chunk_bounds).
+    Angles of the contact arc (from straight down, + forward) are compared through a monotone
+    pseudo-angle; atan2 is taken only for the two ends of the arc.
+    """
     c, s = np.cos(theta), np.sin(theta)
     n_el = mid.shape[0]
-    phi_mid = 0.0
-    if fs_mode >= 1:  # contact arc seen from the centre, angles from straight down, + forward
-        lo, hi, any_sub = 1e300, -1e300, False
-        for i in range(n_el):
-            rx = c * mid[i, 0] - s * mid[i, 1]
+    n_ch = ccen.shape[0]
+    # an element can touch only below this height (rear elements: below surface - dh)
+    thr = surface_z
+    if fs_mode >= 1 and dh < 0.0:
+        thr = surface_z - dh
+    # pass 1: elements that may touch (bounding-circle culling of whole chunks first), their
+    # positions relative to the centre and, with a free-surface split, the contact arc
+    idx = np.empty(n_el, np.int64)
+    rel = np.empty((n_el, 3))  # rx, rz, pseudo-angle from straight down (+ forward)
+    n_c = 0
+    plo, phi_ = np.inf, -np.inf
+    lo_y, lo_x, hi_y, hi_x = 0.0, 0.0, 0.0, 0.0
+    any_sub = False
+    for j in range(n_ch):
+        if z + (s * ccen[j, 0] + c * ccen[j, 1]) - crad[j] >= thr:
+            continue
+        for i in range(j * CHUNK, min((j + 1) * CHUNK, n_el)):
             rz = s * mid[i, 0] + c * mid[i, 1]
-            phi = np.arctan2(forward * rx, -rz)
-            # mode 1: below the undisturbed surface; mode 2: behind the lowest point, below z = -dh
-            level = surface_z - dh if (fs_mode == 2 and phi < 0.0) else surface_z
-            if z + rz < level:
-                lo, hi, any_sub = min(lo, phi), max(hi, phi), True
-        phi_mid = 0.5 * (lo + hi) - MID_ANGLE_TIE if any_sub else -1e300
+            if z + rz >= thr:
+                continue
+            rx = c * mid[i, 0] - s * mid[i, 1]
+            idx[n_c] = i
+            rel[n_c, 0] = rx
+            rel[n_c, 1] = rz
+            if fs_mode >= 1:  # contact arc seen from the centre, angles from straight down, + forward
+                py, px = forward * rx, -rz
+                p = _pseudo_angle(py, px)
+                rel[n_c, 2] = p
+                # mode 1: below the undisturbed surface; mode 2: behind the lowest point, below z = -dh
+                level = surface_z - dh if (fs_mode == 2 and p < 0.0) else surface_z
+                if z + rz < level:
+                    any_sub = True
+                    if p < plo:
+                        plo, lo_y, lo_x = p, py, px
+                    if p > phi_:
+                        phi_, hi_y, hi_x = p, py, px
+            n_c += 1
+    p_mid = -np.inf  # pseudo-angle of the mid-angle of the contact arc (-inf: no split)
+    if any_sub:
+        phi_mid = 0.5 * (np.arctan2(lo_y, lo_x) + np.arctan2(hi_y, hi_x)) - MID_ANGLE_TIE
+        if phi_mid > -np.pi:
+            p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
+    # pass 2: forces of the candidates, in element order
+    k = _alpha_consts(coef)
     fx = 0.0
     fz = 0.0
     mom = 0.0
-    for i in range(n_el):
-        rx = c * mid[i, 0] - s * mid[i, 1]
-        rz = s * mid[i, 0] + c * mid[i, 1]
+    for q in range(n_c):
+        i = idx[q]
+        rx = rel[q, 0]
+        rz = rel[q, 1]
         nx = c * nrm[i, 0] - s * nrm[i, 1]
         nz = s * nrm[i, 0] + c * nrm[i, 1]
         ux = vx - omega * rz
@@ -109,7 +212,7 @@ def _wrench_kernel(
         if vn <= 0.0:  # leading-edge rule
             continue
         depth = z + rz - surface_z
-        if fs_mode >= 1 and np.arctan2(forward * rx, -rz) < phi_mid:
+        if fs_mode >= 1 and rel[q, 2] < p_mid:
             depth += dh
         if depth >= 0.0:
             continue
@@ -117,11 +220,16 @@ def _wrench_kernel(
         c2b = nz * nz - nx * nx
         s2b = 2.0 * nx * nz
         sg = -uz / speed
-        if ux > 0.0:  # mirror x -> -x into the fitted range
-            ax, az = _alpha_unit(c2b, -s2b, ux / speed, sg, coef)
+        # _alpha_unit(c2b, s2b, -ux / speed, sg), or mirrored x -> -x into the fitted range
+        # (ux > 0: s2b -> -s2b, alpha_x -> -alpha_x), with the constants of _alpha_consts
+        cg = abs(ux) / speed
+        s2 = -s2b if ux > 0.0 else s2b
+        az = (c2b * (k[0, 0] + k[0, 1] * cg + k[0, 2] * sg) + (k[0, 3] + k[0, 4] * cg + k[0, 5] * sg)
+              + s2 * (k[0, 6] + k[0, 7] * cg + k[0, 8] * sg))  # fmt: skip
+        ax = (c2b * (k[1, 0] + k[1, 1] * cg + k[1, 2] * sg) + (k[1, 3] + k[1, 4] * cg + k[1, 5] * sg)
+              + s2 * (k[1, 6] + k[1, 7] * cg + k[1, 8] * sg))  # fmt: skip
+        if ux > 0.0:
             ax = -ax
-        else:
-            ax, az = _alpha_unit(c2b, s2b, -ux / speed, sg, coef)
         dA = area[i]
         ex = (alpha_scale * ax * (-depth) - nx * lam_rho * vn * vn) * dA
         ez = (alpha_scale * az * (-depth) - nz * lam_rho * vn * vn) * dA
@@ -163,6 +271,9 @@ class ResistiveForceModel:
         object.__setattr__(self, "_mid", np.ascontiguousarray(self.elements.midpoint))
         object.__setattr__(self, "_nrm", np.ascontiguousarray(self.elements.normal))
         object.__setattr__(self, "_area", np.ascontiguousarray(self.elements.area))
+        cen, rad = chunk_bounds(self._mid)
+        object.__setattr__(self, "_ccen", cen)
+        object.__setattr__(self, "_crad", rad)
 
     def wrench(self, state: BodyState) -> Wrench:
         """Force and moment on the body (compiled path)."""
@@ -177,8 +288,29 @@ class ResistiveForceModel:
         else:  # a user-supplied free-surface model without a compiled form
             return tuple(self.wrench_numpy(BodyState(x, z, theta, vx, vz, omega)).as_array())  # type: ignore[return-value]
         return _wrench_kernel(
-            self._mid, self._nrm, self._area, x, z, theta, vx, vz, omega, self.surface_z,
+            self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
             _COEF, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
+        )  # fmt: skip
+
+    def compiled_spec(self) -> tuple | None:
+        """Arguments of the compiled step loop (``intrusim._implicit_jit``), or None.
+
+        (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
+        fs_gravity): fs_kind 0 = flat free surface, 1 / 2 = :class:`WheelRearHalf` with the
+        "submerged" / "effective" split and the paper's psi (identity), whose drop
+        dh = r (r omega^2 / g) the loop evaluates itself. None for a free-surface model without
+        a compiled form (the integrator then uses its Python loop and ``wrench_tuple``).
+        """
+        fs = self.free_surface
+        if type(fs) is FlatFreeSurface:
+            kind, r, g = 0, 1.0, 1.0
+        elif type(fs) is WheelRearHalf and fs.psi is identity_psi:
+            kind, r, g = (1 if fs.split == "submerged" else 2), float(fs.radius), float(fs.gravity)
+        else:
+            return None
+        return (
+            self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), _COEF,
+            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g,
         )  # fmt: skip
 
     def element_tractions(self, state: BodyState) -> tuple[np.ndarray, np.ndarray]:

@@ -159,7 +159,49 @@ def _arc_elements(radius: float, a0: float, a1: float, n: int, width: float) -> 
 # ---------------------------------------------------------------------------------------
 
 
+_HUB_CACHE: dict[tuple, Shape] = {}
+_HUB_CACHE_MAX = 64
+
+
 def hub_with_lugs(
+    hub_radius: float,
+    lug_height: float,
+    lug_width: float,
+    lug_count: int,
+    width: float,
+    *,
+    hub_elements_per_segment: int = 14,
+    lug_elements_per_face: int = 8,
+    lug_height_scale: float = 1.0,
+    name: str = "hub_with_lugs",
+) -> Shape:
+    """A circular hub with ``lug_count`` rectangular lugs, evenly spaced (see :func:`_hub_with_lugs`).
+
+    Building the outline and ~800 elements costs a few ms, more than a whole compiled steady-state
+    run, so shapes are memoised on their arguments. Every call returns a fresh Shape with its own
+    arrays (copies of the cached ones), so a caller may modify what it gets.
+    """
+    args = (hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment,
+            lug_elements_per_face, lug_height_scale, name)  # fmt: skip
+    try:
+        key = tuple((type(a).__name__, a) for a in args)
+        hit = _HUB_CACHE.get(key)
+    except TypeError:  # unhashable argument: build without the cache (validation reports it)
+        key, hit = None, None
+    if hit is None:
+        hit = _hub_with_lugs(
+            hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment=hub_elements_per_segment,
+            lug_elements_per_face=lug_elements_per_face, lug_height_scale=lug_height_scale, name=name,
+        )  # fmt: skip
+        if key is not None:
+            if len(_HUB_CACHE) >= _HUB_CACHE_MAX:
+                _HUB_CACHE.clear()
+            _HUB_CACHE[key] = hit
+    e = hit.elements
+    return Shape(hit.name, hit.polygon.copy(), SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()), hit.radius)
+
+
+def _hub_with_lugs(
     hub_radius: float,
     lug_height: float,
     lug_width: float,

@@ -134,7 +134,9 @@ def steady_state(
     )  # fmt: skip
 
 
-def run_until_steady(model: Any, shape: Shape, body: Any, drive: Any, initial: Any, run: Any) -> SteadyState:
+def run_until_steady(
+    model: Any, shape: Shape, body: Any, drive: Any, initial: Any, run: Any, *, compiled: bool = True
+) -> SteadyState:
     """Simulate, then extend the run a few revolutions at a time until the window stops drifting.
 
     Parameters
@@ -142,8 +144,10 @@ def run_until_steady(model: Any, shape: Shape, body: Any, drive: Any, initial: A
     model : force model; shape : Shape (its TRUE outline gives the sinkage, its radius the slip);
     body : RigidBody; drive : Drive; initial : BodyState at t = 0;
     run : RunConfig (ramp/settle time, averaging revolutions, dt, drift_tol, max_extensions).
+    compiled : use the compiled step loop when the model has one (False: the Python reference
+        loop; same scheme, same result to rounding, ~5-10x slower).
     """
-    settings = IntegratorSettings(dt=run.dt(drive.omega))
+    settings = IntegratorSettings(dt=run.dt(drive.omega), compiled=compiled)
     surface = getattr(model, "surface_z", 0.0)
     traj = simulate(model, body, drive, initial, run.duration(drive.omega), settings)
     st = steady_state(traj, shape, run.average_revolutions, surface)
@@ -161,7 +165,9 @@ def run_until_steady(model: Any, shape: Shape, body: Any, drive: Any, initial: A
     return st
 
 
-def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: float | None = None) -> SteadyState:
+def run_steady(
+    scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: float | None = None, *, compiled: bool = True
+) -> SteadyState:
     """Simulate ``scenario`` (a LocomotorScenario) with force model ``kind`` at ``omega_rpm``.
 
     Parameters
@@ -170,6 +176,7 @@ def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: 
     kind : "rft", "drft-inertial" or "drft".
     omega_rpm : RPM, > 0 (forward rolling).
     lam : overrides the scenario's lambda.
+    compiled : False runs the Python reference integrator instead of the compiled loop.
 
     Returns
     -------
@@ -182,6 +189,8 @@ def run_steady(scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: 
     model = scenario.build_model(kind, lam)
     shape = scenario.rft_shape()
     drive = scenario.drive(w)
-    st = run_until_steady(model, shape, scenario.rigid_body(), drive, scenario.initial_state(shape), scenario.run)
+    st = run_until_steady(
+        model, shape, scenario.rigid_body(), drive, scenario.initial_state(shape), scenario.run, compiled=compiled
+    )
     st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam)
     return st
