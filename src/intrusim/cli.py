@@ -139,7 +139,7 @@ def sweep(
 
 @app.command()
 def reproduce(
-    figure: str = typer.Argument(..., help="fig3ab, fig3cd, fig4b, fig5ab, fig5c, fig5d, fig6a, fig7bc or figs1."),
+    figure: str = typer.Argument(..., help="fig3ab, fig3cd, fig4b, fig5ab, fig5c, fig5d, fig6a, fig6a-mpm, fig7bc, figs1 or figs3b."),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG and CSV."),
     quick: bool = typer.Option(False, help="Coarse, fast version."),
     parallel: bool = typer.Option(True, help="Run the omega sweeps on a Dask cluster."),
@@ -149,7 +149,7 @@ def reproduce(
     """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
 
     RFT/DRFT: fig4b, fig5ab, fig6a, fig7bc, figs1. MPM (runs the continuum solver, or reuses
-    finished run folders under --runs): fig3ab, fig3cd, fig5c, fig5d, and --mpm on the others.
+    finished run folders under --runs): fig3ab, fig3cd, fig5c, fig5d, fig6a-mpm, figs3b, and --mpm on the others.
     """
     from intrusim.figures import FIGURES
 

@@ -115,3 +115,85 @@ def movie(
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
     typer.echo(f"wrote {path}")
+
+
+def _progress_bar(total: float):
+    """A tqdm bar over physical time, updated at each record (a callback for ``Solver.run``)."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=round(total, 6), unit="s(sim)", desc="MPM", bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+
+    def update(solver) -> None:
+        bar.update(round(solver.t - bar.n, 9))
+
+    return bar, update
+
+
+def _run_solver(solver, t_end: float) -> None:
+    from intrusim.mpm.diagnostics import SimulationError
+
+    bar, update = _progress_bar(t_end)
+    try:
+        solver.run(t_end=t_end, progress=update)
+        update(solver)
+    except SimulationError as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(1) from None
+    finally:
+        bar.close()
+    last = solver.rows[-1]
+    typer.echo(f"done: t = {solver.t:.4g} s, {solver.step_count} steps of {solver.dt:.3g} s, {solver.particles.n} points")
+    if solver.run_dir is not None:
+        typer.echo(f"run folder: {solver.run_dir} (config.json, timeseries.csv, snapshots/, checkpoint.npz)")
+    forces = {k: last[k] for k in ("fx", "fz", "moment") if k in last}
+    if forces:
+        typer.echo("last forces (N, N m): " + ", ".join(f"{k} = {v:.4g}" for k, v in forces.items()))
+
+
+@mpm_app.command("run")
+def run(
+    config: Path = typer.Argument(..., help="MPM configuration, TOML (any MPMConfig field; see docs/mpm.md)."),
+    out: Path = typer.Option(None, help="Run folder (overrides output.directory of the file)."),
+) -> None:
+    """Run an MPM simulation from a configuration file (validated before any compute)."""
+    import tomllib
+
+    from pydantic import ValidationError
+
+    from intrusim.mpm.config import MPMConfig
+
+    try:
+        data = tomllib.loads(config.read_text())
+        cfg = MPMConfig.model_validate(data)
+    except FileNotFoundError:
+        typer.echo(f"error: no such file: {config}", err=True)
+        raise typer.Exit(2) from None
+    except (tomllib.TOMLDecodeError, ValidationError) as err:
+        typer.echo(f"error: invalid configuration {config}:\n{err}", err=True)
+        raise typer.Exit(2) from None
+    if out is not None:
+        cfg.output.directory = str(out)
+    from intrusim.mpm.solver import Solver
+
+    try:
+        solver = Solver(cfg)
+    except ValueError as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
+    _run_solver(solver, cfg.time.t_end)
+
+
+@mpm_app.command("resume")
+def resume(
+    run_dir: Path = typer.Argument(..., help="Run folder of an interrupted run (config.json, checkpoint.npz)."),
+    t_end: float = typer.Option(None, help="New end time, s (default: the configured one)."),
+) -> None:
+    """Continue an interrupted (or finished) run from its last checkpoint."""
+    from intrusim.mpm.solver import Solver
+
+    if not (run_dir / "config.json").exists():
+        typer.echo(f"error: {run_dir} has no config.json (not a run folder)", err=True)
+        raise typer.Exit(2)
+    solver = Solver.resume(run_dir)
+    typer.echo(f"resuming {run_dir} at t = {solver.t:.4g} s (step {solver.step_count})")
+    _run_solver(solver, t_end if t_end is not None else solver.cfg.time.t_end)

@@ -202,4 +202,6 @@ def with_mpm(curves: list, scenario: LocomotorScenario, rpm: np.ndarray, quick: 
     return curves + [(label, scenario, mpm_sweep(scenario, rpm, quick, parallel, runs))]
 
 
-MPM_FIGURES = {"fig3ab": fig3ab, "fig3cd": fig3cd, "fig5c": fig5c, "fig5d": fig5d}
+from intrusim.figures_mpm_plates import PLATE_FIGURES  # noqa: E402  (it uses _save above)
+
+MPM_FIGURES = {"fig3ab": fig3ab, "fig3cd": fig3cd, "fig5c": fig5c, "fig5d": fig5d, **PLATE_FIGURES}

@@ -145,7 +145,7 @@ def stress_update_batch(
     prm: ti.types.vector(4, float),
 ):
     """Apply :func:`drucker_prager_update` to arrays of points in place (tests, diagnostics)."""
-    for p in sigma:
+    for p in range(sigma.shape[0]):
         sig, syy, dg = drucker_prager_update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
         sigma[p] = sig
         s_yy[p] = syy

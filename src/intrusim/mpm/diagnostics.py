@@ -13,7 +13,7 @@ def guard_scan(
     """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point]."""
     for k in range(5):
         out[k] = 0.0 if k != 3 and k != 4 else -1.0
-    for p in x:
+    for p in range(x.shape[0]):
         xp = x[p]
         vp = v[p]
         speed = ti.cast(vp.norm(), ti.f64)
@@ -35,7 +35,7 @@ def kinetic_energy_and_mass(
     """out = [sum m |v|^2 / 2 (J/m), sum m (kg/m)] in float64."""
     out[0] = 0.0
     out[1] = 0.0
-    for p in v:
+    for p in range(v.shape[0]):
         m = ti.cast(mass[p], ti.f64)
         vv = ti.cast(v[p].dot(v[p]), ti.f64)
         out[0] += 0.5 * m * vv

@@ -48,7 +48,7 @@ class Grid:
 @ti.kernel
 def clear_grid(m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray()):
     """m_i = 0, (m v)_i = 0 in every P2G copy."""
-    for I in ti.grouped(m_parts):
+    for I in ti.grouped(ti.ndrange(*m_parts.shape)):
         m_parts[I] = 0.0
         p_parts[I] = ti.Vector([0.0, 0.0])
 
@@ -62,7 +62,7 @@ def grid_momentum_update(
 
     The P2G copies are zeroed as they are read, ready for the next step.
     """
-    for i, j in m:
+    for i, j in ti.ndrange(m.shape[0], m.shape[1]):  # range-for: struct-fors over ndarrays are slow on CPU
         mi = 0.0
         pi = ti.Vector([0.0, 0.0])
         for c in range(m_parts.shape[0]):

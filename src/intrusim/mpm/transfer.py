@@ -58,7 +58,7 @@ def p2g_atomic(
     gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
 ):
     """P2G with atomic adds into grid copy 0 (GPU)."""
-    for p in x:
+    for p in range(x.shape[0]):
         scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt)
 
 
@@ -105,7 +105,7 @@ def g2p_kernel(stress_update):
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
         gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float),
     ):
-        for p in x:
+        for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
             new_v, L = g2p_point(x[p], gv, h, pad)
             v[p] = new_v
             C[p] = L

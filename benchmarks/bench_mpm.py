@@ -1,0 +1,216 @@
+"""Benchmark: one explicit MPM step (issue: >= 30x the NumPy step, within 4x of a bandwidth bound).
+
+For a resting bed of ~64k and ~160k material points (quadratic B-splines, APIC, Drucker-Prager
+with separation, walls) it prints, all measured in the same run:
+
+* ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
+* the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64) and the ratio,
+* a memory-bandwidth bound: the bytes one step must move at least (particle state read by P2G
+  and G2P and written back by G2P, grid arrays written and read once) divided by the copy
+  bandwidth of this machine measured with a Taichi copy kernel on the same threads,
+* optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
+  (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
+  from a short run.
+
+Each thread count runs in its own process (Taichi is initialised once per process):
+
+    python benchmarks/bench_mpm.py                 # threads: 1 and all cores
+    python benchmarks/bench_mpm.py --threads 2 --wheel
+    python benchmarks/bench_mpm.py --arch cuda     # a GPU, when there is one
+"""
+
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+# (label, domain (m), cells, bed height (m)): 2 x 2 points per cell, h = 5 mm
+CASES = {
+    "64k": ((1.0, 1.0), (200, 200), 0.4),
+    "160k": ((1.0, 1.2), (200, 240), 1.0),
+}
+PARTICLE_FLOATS = 14 + 10 + 16  # P2G reads 14 (x v C m V sigma), G2P reads 10 and writes 16
+GRID_FLOATS_PER_NODE = 3 * 4  # (m, p) written by P2G, read by the grid update; v written, read by G2P
+
+
+def _sync() -> None:
+    import taichi as ti
+
+    ti.sync()
+
+
+def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
+    """Copy bandwidth (bytes moved per second: read + write) of a Taichi kernel, best of ``rounds``."""
+    import taichi as ti
+
+    from intrusim.mpm.backend import info
+
+    n = n_bytes // 4
+    a = ti.ndarray(info().real, shape=n)
+    b = ti.ndarray(info().real, shape=n)
+
+    @ti.kernel
+    def copy(src: ti.types.ndarray(), dst: ti.types.ndarray()):
+        for i in src:
+            dst[i] = src[i]
+
+    copy(a, b)
+    _sync()
+    best = np.inf
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        copy(a, b)
+        _sync()
+        best = min(best, time.perf_counter() - t0)
+    return 2 * n * 4 / best
+
+
+def bed_solver(domain, cells, bed_height, arch: str):
+    from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
+    from intrusim.mpm.solver import Solver
+
+    cfg = MPMConfig(
+        domain=DomainConfig(size=domain, cells=cells),
+        bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
+        backend=dict(arch=arch),
+    )
+    return Solver(cfg)
+
+
+def time_steps(solver, min_time: float = 2.0) -> float:
+    """Seconds per step (best of 3 rounds of at least ``min_time`` / 3 s each)."""
+    for _ in range(5):  # compile and warm up
+        solver.step()
+    _sync()
+    n = 10
+    while True:
+        t0 = time.perf_counter()
+        for _ in range(n):
+            solver.step()
+        _sync()
+        el = time.perf_counter() - t0
+        if el > min_time / 3:
+            break
+        n *= 2
+    best = el / n
+    for _ in range(2):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            solver.step()
+        _sync()
+        best = min(best, (time.perf_counter() - t0) / n)
+    return best
+
+
+def time_numpy_step(solver, rounds: int = 2) -> float:
+    """Seconds per step of the vectorised NumPy reference on the solver's current state."""
+    from intrusim.mpm.reference_numpy import numpy_step
+
+    state = {k: np.asarray(a, np.float64) for k, a in solver.particles.to_numpy().items()}
+    args = (solver.h, solver.grid.pad, solver.grid.shape, solver.cfg.domain.size[0], solver.dt,
+            solver.gravity, solver.material.params, tuple(zip(solver.walls.kinds, solver.walls.mus)))
+    best = np.inf
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        numpy_step(state, *args)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02) -> dict:
+    """Wall seconds per physical second of the paper's wheel run (coupled, 60 RPM)."""
+    from intrusim.mpm.solver import Solver
+    from intrusim.scenarios import grousered_wheel_scenario
+    from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
+
+    s = paper_settings("wheel").model_copy(update=dict(arch=arch))
+    solver = Solver(mpm_config(grousered_wheel_scenario(), s, 60.0, None))
+    for _ in range(5):
+        solver.step()
+    _sync()
+    n = max(1, int(round(physical / solver.dt)))
+    t0 = time.perf_counter()
+    for _ in range(n):
+        solver.step()
+    _sync()
+    per_step = (time.perf_counter() - t0) / n
+    return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": per_step * 1e3,
+            "wall_s_per_physical_s": per_step / solver.dt}
+
+
+def measure(threads, arch: str, wheel: bool, numpy_baseline: bool) -> dict:
+    """All figures for one thread count (this process initialises Taichi)."""
+    from intrusim.mpm.backend import ensure_initialized
+
+    ensure_initialized(arch, "f32", threads)
+    out: dict = {"threads": threads or os.cpu_count(), "arch": arch, "cases": {}}
+    out["copy_bandwidth_GBs"] = copy_bandwidth() / 1e9
+    for label, (domain, cells, bed) in CASES.items():
+        solver = bed_solver(domain, cells, bed, arch)
+        n = solver.particles.n
+        step = time_steps(solver)
+        nodes = solver.grid.shape[0] * solver.grid.shape[1]
+        bytes_min = n * PARTICLE_FLOATS * 4 + nodes * GRID_FLOATS_PER_NODE * 4
+        bound = bytes_min / (out["copy_bandwidth_GBs"] * 1e9)
+        row = {"particles": n, "ms_per_step": step * 1e3, "updates_per_s": n / step,
+               "bytes_per_step": bytes_min, "bound_ms": bound * 1e3, "over_bound": step / bound}
+        if numpy_baseline:
+            row["numpy_ms_per_step"] = time_numpy_step(solver) * 1e3
+            row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
+        out["cases"][label] = row
+        del solver
+    if wheel:
+        out["wheel"] = wheel_seconds_per_physical_second(arch)
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--threads", default="1,all", help="comma-separated thread counts ('all' = every core)")
+    ap.add_argument("--arch", default="cpu", help="cpu, cuda, vulkan, metal")
+    ap.add_argument("--wheel", action="store_true", help="also time the paper-resolution wheel run")
+    ap.add_argument("--no-numpy", action="store_true", help="skip the (slow) NumPy baseline")
+    ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child is not None:
+        threads = None if args.child == "all" else int(args.child)
+        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy)))
+        return
+    results = []
+    for t in args.threads.split(","):
+        cmd = [sys.executable, __file__, "--child", t, "--arch", args.arch]
+        cmd += ["--wheel"] if args.wheel else []
+        cmd += ["--no-numpy"] if args.no_numpy else []
+        env = {**os.environ, "INTRUSIM_TI_THREADS": ""}
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if proc.returncode != 0:
+            sys.exit(f"benchmark child ({t} threads) failed:\n{proc.stderr[-3000:]}")
+        results.append(json.loads(proc.stdout.strip().splitlines()[-1]))
+    print(f"MPM step benchmark ({args.arch}); NumPy baseline: vectorised float64 step, same state, same run")
+    print(f"{'threads':>7} {'case':>5} {'points':>7} {'ms/step':>8} {'Mupd/s':>7} {'NumPy ms':>9} "
+          f"{'x NumPy':>8} {'bound ms':>9} {'x bound':>8} {'copy GB/s':>9}")
+    for r in results:
+        for label, c in r["cases"].items():
+            print(f"{r['threads']:>7} {label:>5} {c['particles']:>7} {c['ms_per_step']:8.2f} "
+                  f"{c['updates_per_s'] / 1e6:7.1f} {c.get('numpy_ms_per_step', float('nan')):9.1f} "
+                  f"{c.get('speedup_vs_numpy', float('nan')):8.1f} {c['bound_ms']:9.3f} "
+                  f"{c['over_bound']:8.1f} {r['copy_bandwidth_GBs']:9.1f}")
+    base = results[0]
+    for r in results[1:]:
+        for label in r["cases"]:
+            print(f"thread scaling {label}: {base['threads']} -> {r['threads']} threads: "
+                  f"{base['cases'][label]['ms_per_step'] / r['cases'][label]['ms_per_step']:.2f}x")
+    for r in results:
+        if "wheel" in r:
+            w = r["wheel"]
+            print(f"paper wheel ({r['threads']} threads): {w['particles']} points, dt {w['dt']:.3g} s, "
+                  f"{w['ms_per_step']:.2f} ms/step -> {w['wall_s_per_physical_s']:.0f} s wall per physical second")
+
+
+if __name__ == "__main__":
+    main()
