@@ -93,7 +93,31 @@ def _write(
     fig.savefig(png, dpi=120)
     plt.close(fig)
     _csv(csv_path, rows)
-    return [png, csv_path]
+    paths = [png, csv_path]
+    agreement = _agreement_rows(curves)
+    if agreement:
+        paths.append(out / f"{name}_vs_mpm.csv")
+        _csv(paths[-1], agreement)
+    return paths
+
+
+def _agreement_rows(curves: list[tuple[str, LocomotorScenario, SweepResult]]) -> list[dict[str, Any]]:
+    """Relative difference of every model curve from the MPM curve of the same scenario, at the MPM omegas."""
+    from intrusim.analysis.compare import relative_difference
+
+    rows: list[dict[str, Any]] = []
+    refs = [(s.name, res) for label, s, res in curves if label.startswith("MPM")]
+    for name, ref in refs:
+        for label, s, res in curves:
+            if label.startswith("MPM") or s.name != name:
+                continue
+            dv = relative_difference(res.omega_rpm, res.column("velocity"), ref.omega_rpm, ref.column("velocity"))
+            ds = relative_difference(res.omega_rpm, res.column("sinkage"), ref.omega_rpm, ref.column("sinkage"))
+            for w, v_ref, s_ref, e_v, e_s in zip(ref.omega_rpm, ref.column("velocity"), ref.column("sinkage"), dv, ds):
+                rows.append({"curve": label, "scenario": name, "omega_rpm": w, "omega_over_omega0": w * RPM / s.omega_0,
+                             "velocity_mpm_m_s": v_ref, "sinkage_mpm_m": s_ref,
+                             "rel_diff_velocity": e_v, "rel_diff_sinkage": e_s})  # fmt: skip
+    return rows
 
 
 def _csv(path: Path, rows: list[dict[str, Any]]) -> None:
