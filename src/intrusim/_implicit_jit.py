@@ -10,9 +10,10 @@ fallback for force models without a compiled form), step for step:
 * a failed step retried in 2, 4, ..., 2^max_halvings sub-steps;
 * the same divergence checks (non-finite state, max_speed, max_depth).
 
-The force is the compiled RFT/DRFT kernel ``forces._wrench_kernel`` called directly, with the
+The force is that of the compiled RFT/DRFT kernel ``forces._wrench_kernel``, with the
 free-surface parameters (mode, dh, forward sign) computed here exactly as
-``WheelRearHalf.kernel_params`` does for the paper's psi (identity). Errors come back as status
+``WheelRearHalf.kernel_params`` does for the paper's psi (identity). Within a step it is evaluated
+on elements rotated once per step (``_step_force``, see below), bit for bit the same numbers. Errors come back as status
 codes and numbers; ``bodies.simulate`` turns them into the same IntegratorError messages as the
 Python loop.
 """
@@ -24,7 +25,8 @@ import math
 import numba
 import numpy as np
 
-from intrusim.forces import _wrench_kernel
+from intrusim.forces import CHUNK, _alpha_consts, _pseudo_angle, _wrench_kernel
+from intrusim.laws.drft import MID_ANGLE_TIE
 
 # status codes
 OK = 0
@@ -72,20 +74,212 @@ def _force(
     )
 
 
+# Within one implicit step theta and omega are fixed: every force evaluation of the Newton
+# iteration (finite-difference Jacobian included) sees the same rotated elements and differs only
+# in the centre height z and velocity (vx, vz). The step rotates the elements that can touch once
+# (_rotate_elements, _rotated_frame); each evaluation finds the contact arc (_contact_arc_mid),
+# computes every element's force in a branch-free loop the compiler vectorises (_element_forces;
+# an element the kernel would skip gets exactly 0) and sums them in element order (_ordered_sums).
+# Each element force is the same IEEE expression as in forces._wrench_kernel and adding +-0
+# changes no sum, so the result is that kernel's, bit for bit (tests/unit/test_step_force_kernel.py).
+GEO_ROWS = 8  # rx, rz, nx, nz, cos 2 beta, sin 2 beta, pseudo-angle from straight down, area
+# A step's rotated set covers centre heights z >= z0 + dt (vz0 - slack) and its leading subset the
+# velocities within slack of (vx0, vz0) per component; slack = V_SLACK + 1.5 x the last step's
+# velocity change. Outside, an evaluation uses every rotated element, or (below the height range,
+# or on a turned travel sign at omega = 0) the full kernel: the same result, only slower.
+V_SLACK = 0.01  # m/s
+
+
+@numba.njit(cache=True)
+def _surface_params(fs_kind, fs_r, fs_g, vx, om):
+    """(mode, dh, forward) of WheelRearHalf.kernel_params with psi = identity: dh = r (r w^2 / g)."""
+    mode, dh, fwd = 0, 0.0, 1.0
+    if fs_kind >= 1:
+        mode = fs_kind
+        dh = fs_r * (fs_r * om * om / fs_g)
+        if om != 0.0:  # travel_sign(omega, vx)
+            fwd = -1.0 if om > 0.0 else 1.0
+        else:
+            fwd = -1.0 if vx < 0.0 else 1.0
+    return mode, dh, fwd
+
+
+@numba.njit(cache=True)
+def _contact_threshold(surface_z, mode, dh):
+    """Height below which an element can touch: the surface, or surface - dh when dh < 0."""
+    if mode >= 1 and dh < 0.0:
+        return surface_z - dh
+    return surface_z
+
+
+@numba.njit(cache=True, inline="always")
+def _put_element(dst, n, rx, rz, nx, nz, p, dA):
+    """Column n of a rotated-element table: r, n, cos 2b = n_z^2 - n_x^2, sin 2b = 2 n_x n_z, p, dA."""
+    dst[0, n], dst[1, n], dst[2, n], dst[3, n] = rx, rz, nx, nz
+    dst[4, n], dst[5, n] = nz * nz - nx * nx, 2.0 * nx * nz
+    dst[6, n], dst[7, n] = p, dA
+
+
+@numba.njit(cache=True)
+def _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0, vz0, om, v_slack, geo, lead):
+    """Rotated elements r = R(th) p, n = R(th) n0 of a step; returns (n_g, n_l).
+
+    geo[:, :n_g]: every element that can touch at a centre height z >= z_low (z_low + r_z < thr;
+    float addition is monotone), in element order, with p the pseudo-angle of (fwd r_x, -r_z),
+    the contact-arc angle. lead[:, :n_l]: those of them that can lead (v_n > 0) at a velocity
+    within v_slack of (vx0, vz0) in each component: v_n0 > -1.5 v_slack, as |dv_n| <= sqrt(2) v_slack.
+    """
+    c, s = np.cos(th), np.sin(th)
+    n_el = mid.shape[0]
+    n_g, n_l = 0, 0
+    vn_min = -(1.5 * v_slack + 1e-9)
+    for j in range(ccen.shape[0]):
+        if z_low + (s * ccen[j, 0] + c * ccen[j, 1]) - crad[j] >= thr:
+            continue
+        for i in range(j * CHUNK, min((j + 1) * CHUNK, n_el)):
+            rz = s * mid[i, 0] + c * mid[i, 1]
+            if z_low + rz >= thr:
+                continue
+            rx = c * mid[i, 0] - s * mid[i, 1]
+            nx = c * nrm[i, 0] - s * nrm[i, 1]
+            nz = s * nrm[i, 0] + c * nrm[i, 1]
+            p = _pseudo_angle(fwd * rx, -rz) if mode >= 1 else 0.0
+            _put_element(geo, n_g, rx, rz, nx, nz, p, area[i])
+            n_g += 1
+            if nx * (vx0 - om * rz) + nz * (vz0 + om * rx) > vn_min:
+                _put_element(lead, n_l, rx, rz, nx, nz, p, area[i])
+                n_l += 1
+    return n_g, n_l
+
+
+@numba.njit(cache=True)
+def _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd):
+    """Pseudo-angle of the mid-angle of the contact arc (its two ends' mean angle), -inf without a split."""
+    if mode == 0:
+        return -np.inf
+    rx, rz, p_el = geo[0], geo[1], geo[6]
+    plo, phi_ = np.inf, -np.inf
+    qlo, qhi = -1, -1
+    for q in range(n_g):  # mode 1: below the surface; mode 2: behind the lowest point, below z = -dh
+        p = p_el[q]
+        level = surface_z - dh if (mode == 2 and p < 0.0) else surface_z
+        if z + rz[q] < level:
+            if p < plo:
+                plo, qlo = p, q
+            if p > phi_:
+                phi_, qhi = p, q
+    if qlo < 0:
+        return -np.inf
+    phi_mid = 0.5 * (np.arctan2(fwd * rx[qlo], -rz[qlo]) + np.arctan2(fwd * rx[qhi], -rz[qhi])) - MID_ANGLE_TIE
+    if phi_mid > -np.pi:
+        return _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
+    return -np.inf
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _element_forces(geo, n_g, out, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh, thr, p_mid):
+    """out[:, :n_g] = (f_x, f_z, r x f) per element, f = (alpha H(-z~)|z~| - n lam rho v_n^2) dA (Eq. 4).
+
+    Branch-free (vectorised): an element below thr, leading (v_n > 0) and submerged (z~ < 0) gets
+    the expression of forces._wrench_kernel, any other exactly 0.
+    """
+    rx_, rz_, nx_, nz_, c2b_, s2b_, p_, da_ = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
+    k00, k01, k02, k03, k04, k05, k06, k07, k08 = k[0, 0], k[0, 1], k[0, 2], k[0, 3], k[0, 4], k[0, 5], k[0, 6], k[0, 7], k[0, 8]  # fmt: skip
+    k10, k11, k12, k13, k14, k15, k16, k17, k18 = k[1, 0], k[1, 1], k[1, 2], k[1, 3], k[1, 4], k[1, 5], k[1, 6], k[1, 7], k[1, 8]  # fmt: skip
+    ox, oz, om_ = out[0], out[1], out[2]
+    for q in range(n_g):
+        rx, rz, nx, nz = rx_[q], rz_[q], nx_[q], nz_[q]
+        ux = vx - om * rz
+        uz = vz + om * rx
+        vn = nx * ux + nz * uz
+        d0 = z + rz - surface_z
+        depth = d0 + dh if p_[q] < p_mid else d0  # the lowered rear surface (p_mid = -inf: none)
+        speed = np.sqrt(ux * ux + uz * uz)
+        sg = -uz / speed
+        cg = abs(ux) / speed
+        c2b = c2b_[q]
+        s2 = -s2b_[q] if ux > 0.0 else s2b_[q]  # mirrored x -> -x into the fitted range when ux > 0
+        az = (c2b * (k00 + k01 * cg + k02 * sg) + (k03 + k04 * cg + k05 * sg)
+              + s2 * (k06 + k07 * cg + k08 * sg))  # fmt: skip
+        ax = (c2b * (k10 + k11 * cg + k12 * sg) + (k13 + k14 * cg + k15 * sg)
+              + s2 * (k16 + k17 * cg + k18 * sg))  # fmt: skip
+        ax = -ax if ux > 0.0 else ax
+        dA = da_[q]
+        ex = (alpha_scale * ax * (-depth) - nx * lam_rho * vn * vn) * dA
+        ez = (alpha_scale * az * (-depth) - nz * lam_rho * vn * vn) * dA
+        on = (not (z + rz >= thr)) & (not (vn <= 0.0)) & (not (depth >= 0.0))  # the kernel's skips, NaN alike
+        ex = ex if on else 0.0
+        ez = ez if on else 0.0
+        ox[q] = ex
+        oz[q] = ez
+        om_[q] = rx * ez - rz * ex
+    return out
+
+
+@numba.njit(cache=True)
+def _ordered_sums(out, n_g):
+    """(sum f_x, sum f_z, sum r x f) in element order, as forces._wrench_kernel adds them."""
+    fx = 0.0
+    fz = 0.0
+    mom = 0.0
+    for q in range(n_g):
+        fx += out[0, q]
+        fz += out[1, q]
+        mom += out[2, q]
+    return fx, fz, mom
+
+
+@numba.njit(cache=True)
+def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, mode, dh, fwd, thr):
+    """forces._wrench_kernel on a step's rotated elements: sum of (alpha H(-z~)|z~| - n lam rho v_n^2) dA, and moment."""
+    geo, n_g, lead, n_l, _, _, vx0, vz0, v_slack = frame
+    p_mid = _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd)
+    src, n = geo, n_g
+    if abs(vx - vx0) <= v_slack and abs(vz - vz0) <= v_slack:  # only the elements that can lead
+        src, n = lead, n_l
+    _element_forces(src, n, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh if mode >= 1 else 0.0, thr, p_mid)
+    return _ordered_sums(work, n)
+
+
+@numba.njit(cache=True)
+def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
+    """(geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack): the rotated elements of one step (_rotate_elements)."""
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    mode, dh, _ = _surface_params(fk, fr, fg, vx0, om)
+    thr = _contact_threshold(sz, mode, dh)
+    n_g, n_l = _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0, vz0, om, v_slack, geo, lead)
+    return geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack
+
+
+@numba.njit(cache=True)
+def _step_force(spec, frame, work, k, z, th, vx, vz, om):
+    """One force evaluation of a step: from its rotated elements, or from scratch below z_low / on a turned travel sign."""
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    mode, dh, fwd = _surface_params(fk, fr, fg, vx, om)
+    if z >= frame[4] and fwd == frame[5]:
+        return _force_rotated(frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh))
+    return _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, 0.0, z, th, vx, vz, om)  # x: unused
+
+
 @numba.njit(cache=True)
 def _implicit_step(
     spec, x0, z0, th1, vx0, vz0, om1, dt, ax_ext, az_ext, inv_mx, inv_mz,
-    max_iter, velocity_tol, fd_step, stall_iter, contraction, max_backtrack, g_tol, jac, has_jac,
+    max_iter, velocity_tol, fd_step, stall_iter, contraction, max_backtrack, g_tol, jac, has_jac, geo, lead, work, k, v_slack,
 ):  # fmt: skip
     """One backward-Euler step, as ``bodies._implicit_step``.
 
     Returns (status, vx1, vz1, fx, fz, moment, iterations, best |G|); ``jac`` (4,) and
-    ``has_jac`` (1,) are updated in place.
+    ``has_jac`` (1,) are updated in place; ``geo``, ``lead``, ``work``: work arrays of
+    _rotate_elements and _element_forces,
+    ``k``: _alpha_consts of the fit.
     """
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    # theta and omega are fixed in the step: rotate the elements that can touch once
+    _, _, fwd = _surface_params(fk, fr, fg, vx0, om1)
+    frame = _rotated_frame(spec, th1, z0 + dt * (vz0 - v_slack), fwd, vx0, vz0, om1, v_slack, geo, lead)
     vx, vz = vx0, vz0
     h = fd_step
-    fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, x0 + dt * vx, z0 + dt * vz, th1, vx, vz, om1)
+    fx, fz, m = _step_force(spec, frame, work, k, z0 + dt * vz, th1, vx, vz, om1)
     gx = vx - vx0 - dt * (fx * inv_mx + ax_ext)
     gz = vz - vz0 - dt * (fz * inv_mz + az_ext)
     norm = math.hypot(gx, gz)
@@ -94,12 +288,10 @@ def _implicit_step(
     refreshed = -1
     for it in range(1, max_iter + 1):
         if has_jac[0] == 0 or (stall > 0 and refreshed < it - 1):
-            f1x, f1z, _ = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg,
-                                 x0 + dt * (vx + h), z0 + dt * vz, th1, vx + h, vz, om1)  # fmt: skip
+            f1x, f1z, _ = _step_force(spec, frame, work, k, z0 + dt * vz, th1, vx + h, vz, om1)
             gx1 = (vx + h) - vx0 - dt * (f1x * inv_mx + ax_ext)
             gz1 = vz - vz0 - dt * (f1z * inv_mz + az_ext)
-            f2x, f2z, _ = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg,
-                                 x0 + dt * vx, z0 + dt * (vz + h), th1, vx, vz + h, om1)  # fmt: skip
+            f2x, f2z, _ = _step_force(spec, frame, work, k, z0 + dt * (vz + h), th1, vx, vz + h, om1)
             gx2 = vx - vx0 - dt * (f2x * inv_mx + ax_ext)
             gz2 = (vz + h) - vz0 - dt * (f2z * inv_mz + az_ext)
             jac[0] = (gx1 - gx) / h
@@ -119,8 +311,7 @@ def _implicit_step(
         nx, nz, ngx, ngz, nfx, nfz, nm = vx, vz, gx, gz, fx, fz, m
         for _ in range(max_backtrack):  # backtracking: accept the first step that reduces |G|
             nx, nz = vx + step * dvx, vz + step * dvz
-            nfx, nfz, nm = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg,
-                                  x0 + dt * nx, z0 + dt * nz, th1, nx, nz, om1)  # fmt: skip
+            nfx, nfz, nm = _step_force(spec, frame, work, k, z0 + dt * nz, th1, nx, nz, om1)
             ngx = nx - vx0 - dt * (nfx * inv_mx + ax_ext)
             ngz = nz - vz0 - dt * (nfz * inv_mz + az_ext)
             if math.hypot(ngx, ngz) < norm0:
@@ -166,6 +357,11 @@ def simulate_implicit(
     iters[0] = 0
     jac = np.zeros(4)
     has_jac = np.zeros(1, np.int64)
+    geo = np.empty((GEO_ROWS, mid.shape[0]))
+    lead = np.empty((GEO_ROWS, mid.shape[0]))
+    work = np.empty((3, mid.shape[0]))
+    fit = _alpha_consts(coef)
+    v_slack = V_SLACK
     for i in range(1, n + 1):
         ti = t_start + i * dt
         tprev = t_start + (i - 1) * dt
@@ -185,7 +381,7 @@ def simulate_implicit(
                 st, vx1, vz1, sfx, sfz, sm, it, bn = _implicit_step(
                     spec, xs, zs, th_base + _angle_at(w_target, ramp, tj), vxs, vzs, _omega_at(w_target, ramp, tj),
                     h, ax_ext, az_ext, inv_mx, inv_mz, max_iter, velocity_tol, fd_step, stall_iter, contraction,
-                    max_backtrack, g_tol, jac, has_jac,
+                    max_backtrack, g_tol, jac, has_jac, geo, lead, work, fit, v_slack,
                 )  # fmt: skip
                 if st == SINGULAR or st == NEWTON_NONFINITE:
                     info[0] = tj
@@ -197,6 +393,7 @@ def simulate_implicit(
                 xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
                 fx, fz, m = sfx, sfz, sm
             if not failed:
+                v_slack = V_SLACK + 1.5 * max(abs(vxs - vx), abs(vzs - vz))  # for the next step's leading subset
                 x, z, vx, vz = xs, zs, vxs, vzs
                 done = True
                 break
