@@ -82,14 +82,14 @@ def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
     return 2 * n * 4 / best
 
 
-def bed_solver(domain, cells, bed_height, arch: str):
+def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int = 4):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
     cfg = MPMConfig(
         domain=DomainConfig(size=domain, cells=cells),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
-        backend=dict(arch=arch),
+        backend=dict(arch=arch, p2g_chunks=p2g_chunks),
     )
     return Solver(cfg)
 
@@ -179,6 +179,10 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool) -> dict:
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
         out["cases"][label] = row
         del solver
+        # the non-deterministic alternative: P2G with atomic adds into one grid (p2g_chunks = 1)
+        atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
+        row["atomic_p2g_ms_per_step"] = time_steps(atomic) * 1e3
+        del atomic
     if wheel:
         out["wheel"] = wheel_seconds_per_physical_second(arch)
     return out
@@ -215,6 +219,10 @@ def main() -> None:
                   f"{c['updates_per_s'] / 1e6:7.1f} {c.get('numpy_ms_per_step', float('nan')):9.1f} "
                   f"{c.get('speedup_vs_numpy', float('nan')):8.1f} {c['bound_ms']:9.3f} "
                   f"{c['over_bound']:8.1f} {r['copy_bandwidth_GBs']:9.1f}")
+    for r in results:
+        for label, c in r["cases"].items():
+            print(f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, "
+                  f"not bit-reproducible) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} deterministic")
     for r in results:
         print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
               f"memcpy {r['memcpy_GBs']:.1f} GB/s (bytes read + written per second)")
