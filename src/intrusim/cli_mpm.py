@@ -13,7 +13,8 @@ mpm_app = typer.Typer(help="Continuum (MPM) simulations: wheels and runner, swee
 SCENARIOS = ("wheel", "small-wheel", "runner")
 
 
-def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None):
+def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
+          cell_size: float | None = None):
     from intrusim.scenarios import LOCOMOTORS
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -22,6 +23,11 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     sc = LOCOMOTORS[scenario]()
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
     settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
+    if cell_size is not None:
+        if not cell_size > 0:
+            raise InputError(f"cell_size must be > 0 m, got {cell_size!r}")
+        cells = tuple(max(1, round(d / cell_size)) for d in settings.domain)
+        settings = settings.model_copy(update=dict(cells=cells))
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
@@ -39,10 +45,11 @@ def steady(
     quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
     out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
+    cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, None)
+        case = _case(scenario, quick, out, frames_every, None, cell_size)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -78,6 +85,7 @@ def sweep(
     scheduler: str = typer.Option(None, help="Address of an existing Dask scheduler (default: a local cluster)."),
     serial: bool = typer.Option(False, help="Run the points one after another in this process."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
+    cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -86,7 +94,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

@@ -181,8 +181,8 @@ def figs3b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
         rows += [{"speed_m_s": v, "depth_m": di, "force_N_per_m": fi, "fit_lambda": lam, "paper_lambda": PAPER_VERTICAL["lambda"],
                   "h_m": s["h_m"]} for di, fi in zip(d, f)]  # fmt: skip
     ax.set(xlabel="depth of the plate's lower face (mm)", ylabel="resistance per metre width (kN/m)")
-    ax.set_title(f"Fig S3B (MPM): static (slowest run) + lambda rho A v^2, lambda = {lam:.2f} "
-                 f"(dotted); paper 2.8 (thin)", fontsize=7)  # fmt: skip
+    ax.set_title(f"Fig S3B (MPM): F_static(z) + lambda rho A v^2, lambda = {lam:.2f} (dotted), paper 2.8 (thin)",
+                 fontsize=7)  # fmt: skip
     ax.legend(fontsize=7)
     fig.tight_layout()
     return _save(fig, out, "figs3b", rows)

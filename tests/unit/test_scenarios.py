@@ -59,3 +59,14 @@ def test_unsupported_model_kind():
         s.build_model("drft")
     with pytest.raises(InputError, match="unknown scenario"):
         get_scenario("tank")
+
+
+def test_mpm_forward_push_is_table_s1_for_the_wheel_and_scales_with_mass():
+    from intrusim.scenarios import four_flap_runner_scenario, grousered_wheel_scenario, small_wheel_scenario
+    from intrusim.scenarios.mpm_locomotion import forward_force, paper_settings
+
+    wheel = paper_settings("wheel")
+    assert forward_force(grousered_wheel_scenario(), wheel) == pytest.approx(4.0)  # Table S1
+    assert forward_force(small_wheel_scenario(), wheel) == pytest.approx(4.0 / 8)  # mass x 1/8
+    assert forward_force(four_flap_runner_scenario(), paper_settings("runner")) == 0.0
+    assert forward_force(small_wheel_scenario(), wheel.model_copy(update=dict(forward_force=2.0))) == 2.0

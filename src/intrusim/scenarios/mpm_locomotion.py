@@ -47,7 +47,9 @@ class MPMSettings(Config):
     rho_c, mu_s : poppy seeds (Table S1): 638 kg/m^3, 0.56.
     mu_w : body-grain friction (Table S1: 0.35).
     youngs_modulus, poisson_ratio : numerical elastic stiffness (the paper does not give it).
-    forward_force : N, constant forward push (Table S1: 4 N on the MPM wheel; 0 for the runner).
+    forward_force : N, constant forward push (rig-friction compensation). None (the wheel's
+        default): Table S1's 4 N scaled by the body's horizontal inertia over the Table S1 wheel's
+        23.0 kg, since rig friction scales with the carried mass (small wheel: 0.5 N); runner: 0.
     ramp_time : s, linear spin-up of omega; settle_time : s, transient excluded from averages.
     t_max : s, longest run; wall_margin : m, stop when the body's front is this close to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
@@ -68,7 +70,7 @@ class MPMSettings(Config):
     mu_w: float = Field(0.35, ge=0.0)
     youngs_modulus: float = Field(1.0e6, gt=0.0)
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5)
-    forward_force: float = 4.0
+    forward_force: float | None = None
     ramp_time: float = Field(0.15, ge=0.0)
     settle_time: float = Field(0.5, ge=0.0)
     t_max: float = Field(4.0, gt=0.0)
@@ -96,10 +98,11 @@ def paper_settings(body: str) -> MPMSettings:
         rho_c=ps["critical_density"], mu_s=ps["internal_friction"], mu_w=ps["wheel_surface_friction"],
     )  # fmt: skip
     if body == "wheel":
-        return MPMSettings(**common, forward_force=t["grousered_wheel"]["mpm_forward_force"])
+        return MPMSettings(**common, forward_force=None)
     if body == "runner":
-        # the runner reaches ~3 m/s at 300 RPM: a 4 m long bed (same 5 mm cells) gives it room
-        lz = float(res["domain"][1]) / 2
+        # the runner reaches ~3 m/s at 300 RPM: a 4 m long bed (same 5 mm cells) gives it room,
+        # and the flaps fling grains ~0.5 m high (tip speed 3 m/s): the domain keeps the paper's 1 m height
+        lz = float(res["domain"][1])
         h = float(res["domain"][0]) / int(res["grid"][0])
         common.update(domain=(4.0, lz), cells=(int(round(4.0 / h)), int(round(lz / h))))
         return MPMSettings(**common, bed_depth=0.25, forward_force=0.0, t_max=2.5, settle_time=0.4, start_x=0.12)
@@ -147,6 +150,15 @@ class MPMSteadyState:
         }  # fmt: skip
 
 
+def forward_force(scenario: LocomotorScenario, settings: MPMSettings) -> float:
+    """The constant forward push, N: ``settings.forward_force``, or Table S1's 4 N scaled by the
+    body's horizontal inertia relative to the Table S1 wheel (23.0 kg) when it is None."""
+    if settings.forward_force is not None:
+        return float(settings.forward_force)
+    wheel = table_s1()["grousered_wheel"]
+    return float(wheel["mpm_forward_force"]) * scenario.mass_x / float(wheel["effective_horizontal_inertia"])
+
+
 def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: float, out_dir: str | Path | None = None):
     """The :class:`~intrusim.mpm.config.MPMConfig` of ``scenario`` spinning forward at ``omega_rpm``."""
     from intrusim.mpm.config import (
@@ -171,7 +183,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
             vertices=outline.tolist(), width=scenario.width, mu_w=s.mu_w, x=s.start_x, z=z0,
             motion=CoupledMotion(
                 omega=-w * 2 * math.pi / 60, ramp_time=s.ramp_time, mass_x=scenario.mass_x, mass_z=scenario.mass_z,
-                external_force=(s.forward_force, 0.0),
+                external_force=(forward_force(scenario, s), 0.0),
             ),
         )],
         gravity=(0.0, -scenario.gravity),
