@@ -14,6 +14,7 @@ lugs, Table S1), :func:`circle`, :func:`plate` (a thin flat plate at any angle) 
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -159,10 +160,6 @@ def _arc_elements(radius: float, a0: float, a1: float, n: int, width: float) -> 
 # ---------------------------------------------------------------------------------------
 
 
-_HUB_CACHE: dict[tuple, Shape] = {}
-_HUB_CACHE_MAX = 64
-
-
 def hub_with_lugs(
     hub_radius: float,
     lug_height: float,
@@ -184,21 +181,19 @@ def hub_with_lugs(
     args = (hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment,
             lug_elements_per_face, lug_height_scale, name)  # fmt: skip
     try:
-        key = tuple((type(a).__name__, a) for a in args)
-        hit = _HUB_CACHE.get(key)
+        hit = _cached_hub_with_lugs(*args)
     except TypeError:  # unhashable argument: build without the cache (validation reports it)
-        key, hit = None, None
-    if hit is None:
-        hit = _hub_with_lugs(
-            hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment=hub_elements_per_segment,
-            lug_elements_per_face=lug_elements_per_face, lug_height_scale=lug_height_scale, name=name,
-        )  # fmt: skip
-        if key is not None:
-            if len(_HUB_CACHE) >= _HUB_CACHE_MAX:
-                _HUB_CACHE.clear()
-            _HUB_CACHE[key] = hit
+        hit = _hub_with_lugs_positional(*args)
     e = hit.elements
     return Shape(hit.name, hit.polygon.copy(), SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()), hit.radius)
+
+
+def _hub_with_lugs_positional(hub_radius, lug_height, lug_width, lug_count, width, per_segment, per_face, scale, name) -> Shape:
+    return _hub_with_lugs(hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment=per_segment,
+                          lug_elements_per_face=per_face, lug_height_scale=scale, name=name)  # fmt: skip
+
+
+_cached_hub_with_lugs = functools.lru_cache(maxsize=64, typed=True)(_hub_with_lugs_positional)
 
 
 def _hub_with_lugs(
