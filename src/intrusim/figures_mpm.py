@@ -25,7 +25,7 @@ from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, qui
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.
 MPM_WHEEL_RPM = np.array([10.0, 20.0, 30.0, 45.0, 60.0, 90.0])
 MPM_WHEEL_RPM_QUICK = np.array([10.0, 30.0, 50.0, 70.0, 90.0])
-MPM_SMALL_WHEEL_RPM = np.array([30.0, 60.0, 90.0])
+MPM_SMALL_WHEEL_RPM = np.array([30.0, 90.0])
 MPM_RUNNER_RPM = np.array([20.0, 50.0, 100.0, 150.0, 200.0, 300.0])
 MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 RPM = 2 * np.pi / 60
