@@ -70,11 +70,15 @@ def _write(
     out.mkdir(parents=True, exist_ok=True)
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.6))
     rows: list[dict[str, Any]] = []
+    n_mpm = 0
     for label, s, res in curves:
         w = res.omega_rpm * RPM / s.omega_0
         v = res.column("velocity") / s.velocity_scale
         h = res.column("sinkage") / s.length_scale
-        style = dict(color="k", ls="--", marker="o", ms=5, mfc="w") if label.startswith("MPM") else dict(marker="o", ms=3)
+        style: dict[str, Any] = dict(marker="o", ms=3)
+        if label.startswith("MPM"):  # dashed, open markers; a second MPM curve in grey squares
+            style = dict(color=("k", "0.5")[n_mpm % 2], ls="--", marker=("o", "s")[n_mpm % 2], ms=5, mfc="w")
+            n_mpm += 1
         a1.plot(w, v, label=label, **style)
         a2.plot(w, h, label=label, **style)
         for r, wi, vi, hi in zip(res.records, w, v, h):
