@@ -56,19 +56,26 @@ def _angle_at(w: float, ramp: float, t: float) -> float:
 
 
 @numba.njit(cache=True)
-def _force(
-    mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g,
-    x, z, th, vx, vz, om,
-):  # fmt: skip
-    """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
+def _surface_params(fs_kind, fs_r, fs_g, vx, om):
+    """(mode, dh, forward) of WheelRearHalf.kernel_params with psi = identity: dh = r (r w^2 / g)."""
     mode, dh, fwd = 0, 0.0, 1.0
-    if fs_kind >= 1:  # WheelRearHalf.kernel_params with psi = identity: dh = r (r w^2 / g)
+    if fs_kind >= 1:
         mode = fs_kind
         dh = fs_r * (fs_r * om * om / fs_g)
         if om != 0.0:  # travel_sign(omega, vx)
             fwd = -1.0 if om > 0.0 else 1.0
         else:
             fwd = -1.0 if vx < 0.0 else 1.0
+    return mode, dh, fwd
+
+
+@numba.njit(cache=True)
+def _force(
+    mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g,
+    x, z, th, vx, vz, om,
+):  # fmt: skip
+    """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
+    mode, dh, fwd = _surface_params(fs_kind, fs_r, fs_g, vx, om)
     return _wrench_kernel(
         mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd
     )
@@ -88,20 +95,6 @@ GEO_ROWS = 8  # rx, rz, nx, nz, cos 2 beta, sin 2 beta, pseudo-angle from straig
 # velocity change. Outside, an evaluation uses every rotated element, or (below the height range,
 # or on a turned travel sign at omega = 0) the full kernel: the same result, only slower.
 V_SLACK = 0.01  # m/s
-
-
-@numba.njit(cache=True)
-def _surface_params(fs_kind, fs_r, fs_g, vx, om):
-    """(mode, dh, forward) of WheelRearHalf.kernel_params with psi = identity: dh = r (r w^2 / g)."""
-    mode, dh, fwd = 0, 0.0, 1.0
-    if fs_kind >= 1:
-        mode = fs_kind
-        dh = fs_r * (fs_r * om * om / fs_g)
-        if om != 0.0:  # travel_sign(omega, vx)
-            fwd = -1.0 if om > 0.0 else 1.0
-        else:
-            fwd = -1.0 if vx < 0.0 else 1.0
-    return mode, dh, fwd
 
 
 @numba.njit(cache=True)
