@@ -34,3 +34,21 @@ def test_relative_difference_interpolates_the_model_at_the_reference_points():
     assert np.isnan(d[2])  # outside the model's range: no extrapolation
     with pytest.raises(InputError):
         relative_difference([1.0], [1.0], [1.0], [1.0])
+
+
+def test_vertical_plate_lambda_recovers_a_synthetic_static_plus_inertial_law():
+    import numpy as np
+    import pytest
+
+    from intrusim.figures_mpm_plates import static_plus_inertial_lambda
+
+    rho, area, lam = 2500.0, 0.16, 2.8
+    depth = np.linspace(-0.005, 0.08, 200)
+    static = 2e5 * np.clip(depth, 0, None) + 3e3 * np.sin(40 * depth)  # any static curve
+    series = [{"speed_m_s": v, "depth_m": list(depth), "force_N_per_m": list(static + lam * rho * area * v**2)}
+              for v in (0.1, 0.5, 1.0, 2.0)]
+    # the slowest run is taken as static, so its own v^2 part is subtracted from the others
+    got, grid, f_static = static_plus_inertial_lambda(series, rho, area, min_depth=0.01)
+    expected = lam * sum((v**2 - 0.01) * v**2 for v in (0.5, 1.0, 2.0)) / sum(v**4 for v in (0.5, 1.0, 2.0))
+    assert got == pytest.approx(expected, rel=1e-9)
+    assert grid[0] == pytest.approx(0.01) and len(f_static) == len(grid)
