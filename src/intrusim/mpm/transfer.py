@@ -24,8 +24,12 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
 @ti.func
 def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   mass: ti.template(), vol: ti.template(), sigma: ti.template(),
-                  gm: ti.template(), gp: ti.template(), h, pad, dt):
-    """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)]."""
+                  gm: ti.template(), gp: ti.template(), h, pad, dt, atomic: ti.template()):
+    """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
+
+    ``atomic``: atomic adds (several threads share grid copy ``c``); otherwise plain
+    read-modify-write (one loop iteration owns copy ``c``).
+    """
     inv_h = 1.0 / h
     base, fx, w = quadratic_weights(x[p], inv_h, pad, gm.shape[1], gm.shape[2])
     affine = mass[p] * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
@@ -33,8 +37,16 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     for i, j in ti.static(ti.ndrange(3, 3)):
         dpos = (ti.Vector([i, j]) - fx) * h
         weight = w[i][0] * w[j][1]
-        gp[c, base[0] + i, base[1] + j] += weight * (mv + affine @ dpos)
-        gm[c, base[0] + i, base[1] + j] += weight * mass[p]
+        I = ti.Vector([c, base[0] + i, base[1] + j])
+        if ti.static(atomic):
+            gp[I] += weight * (mv + affine @ dpos)
+            gm[I] += weight * mass[p]
+        else:
+            gp[I] = gp[I] + weight * (mv + affine @ dpos)
+            gm[I] = gm[I] + weight * mass[p]
+
+
+CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_chunked)
 
 
 @ti.kernel
@@ -43,12 +55,21 @@ def p2g_chunked(
     mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
     gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
 ):
-    """P2G into one private grid copy per chunk of points (CPU): no atomics, fixed summation order."""
+    """P2G into one private grid copy per chunk of points (CPU): no atomics, fixed summation order.
+
+    Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the few
+    chunks would run on one thread. The outer loop therefore has CHUNK_SPREAD iterations per chunk,
+    and only the first of them scatters that chunk's points (serially): the tasks are spread over
+    the threads, and each grid copy is still written by one iteration in point order, so the
+    result does not depend on the scheduling.
+    """
     n = x.shape[0]
     nc = gm.shape[0]
-    for c in range(nc):  # parallel over chunks, serial inside
-        for p in range(c * n // nc, (c + 1) * n // nc):
-            scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt)
+    for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
+        if q % CHUNK_SPREAD == 0:
+            c = q // CHUNK_SPREAD
+            for p in range(c * n // nc, (c + 1) * n // nc):
+                scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, False)
 
 
 @ti.kernel
@@ -59,7 +80,7 @@ def p2g_atomic(
 ):
     """P2G with atomic adds into grid copy 0 (GPU)."""
     for p in range(x.shape[0]):
-        scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt)
+        scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
 
 
 def p2g(particles, grid, dt: float) -> None:
