@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
+from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
 
@@ -52,10 +53,6 @@ def mpm_sweep(
         workers = min(len(missing), os.cpu_count() or 1)
         case = case.model_copy(update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers)))))
     return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
-
-
-def mpm_curve(label: str, scenario: LocomotorScenario, res: SweepResult) -> tuple[str, LocomotorScenario, SweepResult]:
-    return (label, scenario, res)
 
 
 def _save(fig: Any, out: Path, name: str, rows: list[dict[str, Any]]) -> list[Path]:
@@ -125,17 +122,11 @@ def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | N
     return dict(np.load(files[-1]))
 
 
-def _body_polygon(d: dict[str, np.ndarray]) -> np.ndarray:
-    x, z, th = (float(v) for v in d["body"][:3])
-    c, s = np.cos(th), np.sin(th)
-    return d["outline"] @ np.array([[c, s], [-s, c]]) + [x, z]
-
-
 def _field_panel(ax: Any, d: dict[str, np.ndarray], values: np.ndarray, norm: Any, cmap: str, half_width: float) -> Any:
     x0, z0 = float(d["body"][0]), float(d["body"][1])
     sel = np.abs(d["x"][:, 0] - x0) < half_width
     sc = ax.scatter(d["x"][sel, 0] - x0, d["x"][sel, 1], c=values[sel], s=2.0, cmap=cmap, norm=norm, linewidths=0)
-    poly = _body_polygon(d)
+    poly = posed_polygon(d["outline"], *(float(v) for v in d["body"][:3]))
     ax.fill(poly[:, 0] - x0, poly[:, 1], color="orange", alpha=0.8, ec="k", lw=0.5)
     ax.set_aspect("equal")
     ax.set_xlim(-half_width, half_width)

@@ -178,22 +178,15 @@ def hub_with_lugs(
     run, so shapes are memoised on their arguments. Every call returns a fresh Shape with its own
     arrays (copies of the cached ones), so a caller may modify what it gets.
     """
-    args = (hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment,
-            lug_elements_per_face, lug_height_scale, name)  # fmt: skip
+    args = (hub_radius, lug_height, lug_width, lug_count, width)
+    kwargs = dict(hub_elements_per_segment=hub_elements_per_segment, lug_elements_per_face=lug_elements_per_face,
+                  lug_height_scale=lug_height_scale, name=name)  # fmt: skip
     try:
-        hit = _cached_hub_with_lugs(*args)
+        hit = _cached_hub_with_lugs(*args, **kwargs)
     except TypeError:  # unhashable argument: build without the cache (validation reports it)
-        hit = _hub_with_lugs_positional(*args)
+        hit = _hub_with_lugs(*args, **kwargs)
     e = hit.elements
     return Shape(hit.name, hit.polygon.copy(), SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()), hit.radius)
-
-
-def _hub_with_lugs_positional(hub_radius, lug_height, lug_width, lug_count, width, per_segment, per_face, scale, name) -> Shape:
-    return _hub_with_lugs(hub_radius, lug_height, lug_width, lug_count, width, hub_elements_per_segment=per_segment,
-                          lug_elements_per_face=per_face, lug_height_scale=scale, name=name)  # fmt: skip
-
-
-_cached_hub_with_lugs = functools.lru_cache(maxsize=64, typed=True)(_hub_with_lugs_positional)
 
 
 def _hub_with_lugs(
@@ -267,6 +260,9 @@ def _hub_with_lugs(
         arc = np.linspace(a0, a1, max(n_hub, 2) + 1)[1:-1]
         outline.extend(r * np.column_stack([np.cos(arc), np.sin(arc)]))
     return Shape(name, np.array(outline), SurfaceElements.concatenate(parts), r + h)
+
+
+_cached_hub_with_lugs = functools.lru_cache(maxsize=64, typed=True)(_hub_with_lugs)
 
 
 def grousered_wheel(
@@ -364,6 +360,12 @@ def plate(
     bottom = _segment_elements(p0, p1, n, TAG_SURFACE, width)
     outline = np.array([p0 - 0.5 * t * nrm, p1 - 0.5 * t * nrm, p1 + 0.5 * t * nrm, p0 + 0.5 * t * nrm])
     return Shape("plate", outline, SurfaceElements.concatenate([top, bottom]), 0.5 * L)
+
+
+def posed_polygon(polygon: np.ndarray, x: float, z: float, theta: float) -> np.ndarray:
+    """A body-frame polygon (N, 2) turned by theta (counter-clockwise) and moved to (x, z), m."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.asarray(polygon, float) @ np.array([[c, s], [-s, c]]) + np.array([x, z])
 
 
 def signed_area(points: np.ndarray) -> float:

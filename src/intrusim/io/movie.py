@@ -72,6 +72,8 @@ def movie_from_frames(
     """
     import matplotlib
 
+    from intrusim.geometry import posed_polygon
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm, Normalize
@@ -101,9 +103,7 @@ def movie_from_frames(
         ax.clear()
         vals = np.clip(d[field], vmin if field == "gdot_p" else -np.inf, None)
         ax.scatter(d["x"][:, 0], d["x"][:, 1], c=vals, s=marker, cmap="viridis", norm=norm, linewidths=0)
-        x0, z0, th = d["body"]
-        c, s = np.cos(th), np.sin(th)
-        poly = d["outline"] @ np.array([[c, s], [-s, c]]) + [x0, z0]
+        poly = posed_polygon(d["outline"], *d["body"][:3])
         ax.fill(poly[:, 0], poly[:, 1], color="0.6", ec="k", lw=0.8)
         ax.set_xlim(crop[0], crop[1])
         ax.set_ylim(crop[2], crop[3])

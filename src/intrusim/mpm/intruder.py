@@ -13,6 +13,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from intrusim.geometry import posed_polygon
+
 from .config import CoupledMotion, IntruderConfig, PrescribedMotion
 from .contact import BodyPose, PolygonContact
 
@@ -67,9 +69,7 @@ class Intruder:
 
     def world_vertices(self) -> np.ndarray:
         """Polygon in the world frame at the current pose, m."""
-        c, s = np.cos(self.state.theta), np.sin(self.state.theta)
-        R = np.array([[c, -s], [s, c]])
-        return self.contact.vertices @ R.T + np.array([self.state.x, self.state.z])
+        return posed_polygon(self.contact.vertices, self.state.x, self.state.z, self.state.theta)
 
     def set_time(self, t: float) -> None:
         """Set prescribed velocities (and pose) at time t; for coupled bodies only omega."""

@@ -30,7 +30,7 @@ from pydantic import Field
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage
-from intrusim.geometry import signed_area
+from intrusim.geometry import posed_polygon, signed_area
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
 from intrusim.scenarios.locomotor import LocomotorScenario
@@ -330,8 +330,7 @@ def fields_drop(path: str | Path, bed_depth: float, rho_c: float, gravity: float
     """(t, dh) of one saved particle snapshot (``fields_*.npz`` of a run folder)."""
     d = np.load(path)
     x, z, th = (float(v) for v in d["body"][:3])
-    c, s = np.cos(th), np.sin(th)
-    poly = d["outline"] @ np.array([[c, s], [-s, c]]) + [x, z]
+    poly = posed_polygon(d["outline"], x, z, th)
     dh = rear_contact_drop(d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=h, pressure_tol=0.5 * rho_c * gravity * h)
     return float(d["t"]), dh
 
