@@ -8,13 +8,14 @@ grains, summed over nodes and divided by dt, is the force on the body (and its m
 the body reference point). The reductions are accumulated in float64.
 """
 
-
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import taichi as ti
 
-from .grid import Grid
+if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
+    from .grid import Grid
 
 
 @ti.func
@@ -138,7 +139,7 @@ class PolygonContact:
         self._verts.from_numpy(verts.astype(info().np_real))
         self.impulse = ti.ndarray(ti.f64, shape=3)  # cumulative (Fx, Fz, My) dt on the body
 
-    def apply(self, grid: Grid, pose: BodyPose, dt: float) -> None:
+    def apply(self, grid: "Grid", pose: BodyPose, dt: float) -> None:
         """Project the grid velocities near the body; accumulates the impulse on the body."""
         i0, i1, j0, j1 = grid.index_box((pose.x, pose.z), self.radius + self.band + grid.h)
         if i1 <= i0 or j1 <= j0:

@@ -1,4 +1,4 @@
-"""Background grid: node mass and momentum/velocity, with a padding of ``pad`` cells.
+"""Background grid: node mass and momentum/velocity, with a padding of ``pad`` cells, and its update.
 
 Node (i, j) sits at ((i - pad) h, (j - pad) h); the physical domain is [0, Lx] x [0, Lz].
 """
@@ -8,6 +8,7 @@ import numpy as np
 import taichi as ti
 
 from .backend import info
+from .boundaries import wall_velocity
 
 PAD = 3  # cells of padding around the domain, enough for the quadratic stencil of escaping points
 
@@ -28,6 +29,9 @@ class Grid:
         self.p_parts = ti.Vector.ndarray(2, real, shape=(self.chunks, *self.shape))  # kg/s
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
+        # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
+        self.box_parts = ti.ndarray(ti.i32, shape=(self.chunks, 4))
+        self.box = ti.ndarray(ti.i32, shape=4)  # zeros: an empty box
 
     def node_positions(self) -> np.ndarray:
         """(nx, nz, 2) node coordinates, m."""
@@ -45,24 +49,43 @@ class Grid:
         return i0, max(i1, i0), j0, max(j1, j0)
 
 
-@ti.kernel
-def clear_grid(m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray()):
-    """m_i = 0, (m v)_i = 0 in every P2G copy."""
-    for I in ti.grouped(ti.ndrange(*m_parts.shape)):
-        m_parts[I] = 0.0
-        p_parts[I] = ti.Vector([0.0, 0.0])
+@ti.func
+def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
+    """Velocity of a node at (xi, zj) after the walls it lies on or beyond (left, right, floor)."""
+    if xi <= 0.0:
+        v = wall_velocity(v, ti.Vector([1.0, 0.0]), kinds[0], mus[0])
+    if xi >= lx - 1e-6 * h:
+        v = wall_velocity(v, ti.Vector([-1.0, 0.0]), kinds[1], mus[1])
+    if zj <= 0.0:
+        v = wall_velocity(v, ti.Vector([0.0, 1.0]), kinds[2], mus[2])
+    return v
 
 
 @ti.kernel
-def grid_momentum_update(
-    m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray(), m: ti.types.ndarray(),
-    v: ti.types.ndarray(), dt: float, gx: float, gz: float,
+def grid_update(
+    m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
+    box: ti.types.ndarray(), m: ti.types.ndarray(), v: ti.types.ndarray(), dt: float,
+    gx: float, gz: float, h: float, pad: int, lx: float,
+    kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float),
 ):
-    """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g   (internal force is already in (m v)_i).
+    """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
 
-    The P2G copies are zeroed as they are read, ready for the next step.
+    Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
+    are visited: elsewhere m and the copies are already zero. The copies are zeroed as they are
+    read, ready for the next step; ``box`` becomes this step's box.
     """
-    for i, j in ti.ndrange(m.shape[0], m.shape[1]):  # range-for: struct-fors over ndarrays are slow on CPU
+    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
+    b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
+    for c in range(box_parts.shape[0]):
+        b0 = ti.min(b0, box_parts[c, 0])
+        b1 = ti.max(b1, box_parts[c, 1])
+        b2 = ti.min(b2, box_parts[c, 2])
+        b3 = ti.max(b3, box_parts[c, 3])
+    u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
+    nj = ti.max(u3 - u2, 0)
+    for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
+        i = u0 + q // nj
+        j = u2 + q % nj
         mi = 0.0
         pi = ti.Vector([0.0, 0.0])
         for c in range(m_parts.shape[0]):
@@ -71,6 +94,9 @@ def grid_momentum_update(
             m_parts[c, i, j] = 0.0
             p_parts[c, i, j] = ti.Vector([0.0, 0.0])
         m[i, j] = mi
-        v[i, j] = ti.Vector([0.0, 0.0])
+        vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:
-            v[i, j] = pi / mi + dt * ti.Vector([gx, gz])
+            vi = wall_node_velocity(pi / mi + dt * ti.Vector([gx, gz]), (i - pad) * h, (j - pad) * h,
+                                    h, lx, kinds, mus)
+        v[i, j] = vi
+    box[0], box[1], box[2], box[3] = b0, b1, b2, b3

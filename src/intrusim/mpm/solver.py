@@ -20,7 +20,7 @@ from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
-from .grid import Grid, grid_momentum_update
+from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import Particles
 from .transfer import g2p_kernel, p2g
@@ -99,8 +99,10 @@ class Solver:
         """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies)."""
         g, p, dt = self.grid, self.particles, self.dt
         p2g(p, g, dt)  # 1. P2G (the grid update leaves the P2G copies zeroed)
-        grid_momentum_update(g.m_parts, g.p_parts, g.m, g.v, dt, *self.gravity)  # 2. momentum + gravity
-        self.walls.apply(g)  # 2. walls
+        grid_update(  # 2. momentum + gravity, walls
+            g.m_parts, g.p_parts, g.box_parts, g.box, g.m, g.v, dt, *self.gravity, g.h, g.pad,
+            g.size[0], self.walls.kinds, self.walls.mus,
+        )
         for obstacle, ocfg in zip(self.obstacles, self.cfg.obstacles):  # static bodies
             if ocfg.removal_time is None or self.t < ocfg.removal_time:
                 obstacle.apply(g, STATIC_POSE, dt)

@@ -28,7 +28,7 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
     ``atomic``: atomic adds (several threads share grid copy ``c``); otherwise plain
-    read-modify-write (one loop iteration owns copy ``c``).
+    read-modify-write (one loop iteration owns copy ``c``). Returns the base node of the 3 x 3 stencil.
     """
     inv_h = 1.0 / h
     base, fx, w = quadratic_weights(x[p], inv_h, pad, gm.shape[1], gm.shape[2])
@@ -44,6 +44,7 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
         else:
             gp[I] = gp[I] + weight * (mv + affine @ dpos)
             gm[I] = gm[I] + weight * mass[p]
+    return base
 
 
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_chunked)
@@ -53,7 +54,8 @@ CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_chunked)
 def p2g_chunked(
     x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
     mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
+    gm: ti.types.ndarray(), gp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int,
+    dt: float,
 ):
     """P2G into one private grid copy per chunk of points (CPU): no atomics, fixed summation order.
 
@@ -61,33 +63,45 @@ def p2g_chunked(
     chunks would run on one thread. The outer loop therefore has CHUNK_SPREAD iterations per chunk,
     and only the first of them scatters that chunk's points (serially): the tasks are spread over
     the threads, and each grid copy is still written by one iteration in point order, so the
-    result does not depend on the scheduling.
+    result does not depend on the scheduling. ``box[c]`` = node box [i0, i1, j0, j1) chunk c touched.
     """
     n = x.shape[0]
     nc = gm.shape[0]
     for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
         if q % CHUNK_SPREAD == 0:
             c = q // CHUNK_SPREAD
+            lo = ti.Vector([gm.shape[1], gm.shape[2]])
+            hi = ti.Vector([0, 0])
             for p in range(c * n // nc, (c + 1) * n // nc):
-                scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, False)
+                base = scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, False)
+                lo = ti.min(lo, base)
+                hi = ti.max(hi, base + 3)
+            box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
 
 
 @ti.kernel
 def p2g_atomic(
     x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
     mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gm: ti.types.ndarray(), gp: ti.types.ndarray(), h: float, pad: int, dt: float,
+    gm: ti.types.ndarray(), gp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int,
+    dt: float,
 ):
-    """P2G with atomic adds into grid copy 0 (GPU)."""
+    """P2G with atomic adds into grid copy 0 (GPU); ``box[0]`` = node box touched."""
+    box[0, 0], box[0, 1], box[0, 2], box[0, 3] = gm.shape[1], 0, gm.shape[2], 0
     for p in range(x.shape[0]):
-        scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
+        base = scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
+        ti.atomic_min(box[0, 0], base[0])
+        ti.atomic_max(box[0, 1], base[0] + 3)
+        ti.atomic_min(box[0, 2], base[1])
+        ti.atomic_max(box[0, 3], base[1] + 3)
 
 
 def p2g(particles, grid, dt: float) -> None:
     """Particle-to-grid transfer into ``grid.m_parts`` / ``grid.p_parts`` (summed by the grid update)."""
     kernel = p2g_chunked if grid.chunks > 1 else p2g_atomic
     p = particles
-    kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.m_parts, grid.p_parts, grid.h, grid.pad, dt)
+    kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.m_parts, grid.p_parts, grid.box_parts,
+           grid.h, grid.pad, dt)
 
 
 @ti.func
