@@ -82,14 +82,14 @@ def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
     return 2 * n * 4 / best
 
 
-def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int = 4):
+def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
     cfg = MPMConfig(
         domain=DomainConfig(size=domain, cells=cells),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
-        backend=dict(arch=arch, p2g_chunks=p2g_chunks),
+        backend=dict(arch=arch) if p2g_chunks is None else dict(arch=arch, p2g_chunks=p2g_chunks),
     )
     return Solver(cfg)
 

@@ -201,9 +201,10 @@ class BackendConfig(_Model):
     precision: Literal["f32", "f64"] = "f32"
     cpu_threads: int | None = Field(None, ge=1)
     p2g_chunks: int = Field(
-        4, ge=1, le=64,
+        16, ge=1, le=31,
         description="CPU: P2G into this many private grid copies (no atomics, deterministic sum "
-        "order independent of the thread count); GPU uses atomics instead",
+        "order independent of the thread count; more chunks than threads balance the load, and "
+        "the grid update sums each copy only over its chunk's box); GPU uses atomics instead",
     )
 
 

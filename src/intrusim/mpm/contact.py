@@ -78,14 +78,18 @@ def rigid_polygon_contact(
     gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
     h: float, pad: int, i0: int, i1: int, j0: int, j1: int,
     bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
-    mu: float, band: float, dt: float, impulse: ti.types.ndarray(),
+    mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(),
 ):
-    """Project grid velocities against one rigid polygon; impulse += (Fx, Fz, My) dt on the body."""
+    """Project grid velocities against one rigid polygon; impulse += (Fx, Fz, My) dt on the body.
+
+    ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
+    are outside the band and skip the distance computation.
+    """
     c, s = ti.cos(theta), ti.sin(theta)
     for i, j in ti.ndrange((i0, i1), (j0, j1)):
-        if gm[i, j] > 0.0:
-            node = ti.Vector([(i - pad) * h, (j - pad) * h])
-            r = node - ti.Vector([bx, bz])
+        node = ti.Vector([(i - pad) * h, (j - pad) * h])
+        r = node - ti.Vector([bx, bz])
+        if gm[i, j] > 0.0 and r.norm_sqr() < reach * reach:
             local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])  # R(-theta) r
             sd, n_loc = polygon_signed_distance(local, verts, nv)
             if sd < band:
@@ -147,7 +151,7 @@ class PolygonContact:
         rigid_polygon_contact(
             grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, i0, i1, j0, j1,
             pose.x, pose.z, pose.theta, pose.vx, pose.vz, pose.omega,
-            self.mu, self.band, dt, self.impulse,
+            self.mu, self.band, self.radius + self.band, dt, self.impulse,
         )
 
     def read_impulse(self) -> np.ndarray:

@@ -24,6 +24,8 @@ class Grid:
         self.pad = PAD
         self.shape = (self.cells[0] + 2 * PAD + 1, self.cells[1] + 2 * PAD + 1)
         self.chunks = int(chunks)
+        if not 1 <= self.chunks <= 31:
+            raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
         self.m_parts = ti.ndarray(real, shape=(self.chunks, *self.shape))  # kg/m
         self.p_parts = ti.Vector.ndarray(2, real, shape=(self.chunks, *self.shape))  # kg/s
@@ -32,6 +34,7 @@ class Grid:
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
         self.box_parts = ti.ndarray(ti.i32, shape=(self.chunks, 4))
         self.box = ti.ndarray(ti.i32, shape=4)  # zeros: an empty box
+        self.col_mask = ti.ndarray(ti.i32, shape=self.shape[0])  # bit c: chunk c's box spans column i
 
     def node_positions(self) -> np.ndarray:
         """(nx, nz, 2) node coordinates, m."""
@@ -64,35 +67,45 @@ def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
 @ti.kernel
 def grid_update(
     m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
-    box: ti.types.ndarray(), m: ti.types.ndarray(), v: ti.types.ndarray(), dt: float,
-    gx: float, gz: float, h: float, pad: int, lx: float,
+    box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
+    v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
     kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float),
 ):
     """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
 
     Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
-    are visited: elsewhere m and the copies are already zero. The copies are zeroed as they are
-    read, ready for the next step; ``box`` becomes this step's box.
+    are visited, and of the P2G copies only those whose chunk's box holds the node (``col_mask``:
+    a bit per chunk whose box spans the column): elsewhere m and the copies are already zero.
+    The copies are zeroed as they are read, ready for the next step; ``box`` becomes this step's box.
     """
+    nc = m_parts.shape[0]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
     b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
-    for c in range(box_parts.shape[0]):
+    for c in range(nc):
         b0 = ti.min(b0, box_parts[c, 0])
         b1 = ti.max(b1, box_parts[c, 1])
         b2 = ti.min(b2, box_parts[c, 2])
         b3 = ti.max(b3, box_parts[c, 3])
     u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
+    for i in range(u0, u1):
+        mask = 0
+        for c in range(nc):
+            if box_parts[c, 0] <= i < box_parts[c, 1]:
+                mask |= 1 << c
+        col_mask[i] = mask
     nj = ti.max(u3 - u2, 0)
     for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
         i = u0 + q // nj
         j = u2 + q % nj
         mi = 0.0
         pi = ti.Vector([0.0, 0.0])
-        for c in range(m_parts.shape[0]):
-            mi += m_parts[c, i, j]
-            pi += p_parts[c, i, j]
-            m_parts[c, i, j] = 0.0
-            p_parts[c, i, j] = ti.Vector([0.0, 0.0])
+        mask = col_mask[i]
+        for c in range(nc):  # the copies whose chunk touched this node, in chunk order
+            if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
+                mi += m_parts[c, i, j]
+                pi += p_parts[c, i, j]
+                m_parts[c, i, j] = 0.0
+                p_parts[c, i, j] = ti.Vector([0.0, 0.0])
         m[i, j] = mi
         vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:

@@ -33,17 +33,22 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     inv_h = 1.0 / h
     base, fx, w = quadratic_weights(x[p], inv_h, pad, gm.shape[1], gm.shape[2])
     affine = mass[p] * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
-    mv = mass[p] * v[p]
-    for i, j in ti.static(ti.ndrange(3, 3)):
-        dpos = (ti.Vector([i, j]) - fx) * h
-        weight = w[i][0] * w[j][1]
-        I = ti.Vector([c, base[0] + i, base[1] + j])
-        if ti.static(atomic):
-            gp[I] += weight * (mv + affine @ dpos)
-            gm[I] += weight * mass[p]
-        else:
-            gp[I] = gp[I] + weight * (mv + affine @ dpos)
-            gm[I] = gm[I] + weight * mass[p]
+    # node (a, b) of the stencil is at x_i - x_p = h ((a, b) - f): its momentum is
+    # m_p v_p + affine (x_i - x_p) = q0 + a h affine[:, 0] + b h affine[:, 1]
+    q0 = mass[p] * v[p] - h * (affine @ fx)
+    ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
+    cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
+    for a in ti.static(range(3)):
+        qa = q0 + a * ca
+        for b in ti.static(range(3)):
+            weight = w[a][0] * w[b][1]
+            I = ti.Vector([c, base[0] + a, base[1] + b])
+            if ti.static(atomic):
+                gp[I] += weight * (qa + b * cb)
+                gm[I] += weight * mass[p]
+            else:
+                gp[I] = gp[I] + weight * (qa + b * cb)
+                gm[I] = gm[I] + weight * mass[p]
     return base
 
 
@@ -106,19 +111,33 @@ def p2g(particles, grid, dt: float) -> None:
 
 @ti.func
 def g2p_point(x, gv: ti.template(), h, pad):
-    """v_p = sum w v_i ;  C_p = (4/h^2) sum w v_i (x_i - x_p)^T  for the point at x."""
+    """v_p = sum w v_i ;  C_p = (4/h^2) sum w v_i (x_i - x_p)^T  for the point at x.
+
+    Summed axis by axis: with x_i - x_p = h (o - f) for the stencil offset o = (a, b) and the
+    fractional position f, C_p = (4/h) [sum w v_i o^T - v_p f^T], and the sums over b are done
+    once per a (w = w_a w_b): about half the flops of the 9 outer products.
+    """
     inv_h = 1.0 / h
     base, fx, w = quadratic_weights(x, inv_h, pad, gv.shape[0], gv.shape[1])
-    new_v = ti.Vector([0.0, 0.0])
-    new_C = ti.Matrix.zero(float, 2, 2)
-    for i, j in ti.static(ti.ndrange(3, 3)):
-        offset = ti.Vector([i, j])
-        dpos = (offset - fx) * h
-        weight = w[i][0] * w[j][1]
-        g_v = gv[base + offset]
-        new_v += weight * g_v
-        new_C += (4.0 * inv_h * inv_h * weight) * g_v.outer_product(dpos)
-    return new_v, new_C
+    s0 = ti.Vector([0.0, 0.0])  # sum w v_i
+    sa = ti.Vector([0.0, 0.0])  # sum w v_i a
+    sb = ti.Vector([0.0, 0.0])  # sum w v_i b
+    for a in ti.static(range(3)):
+        r0 = ti.Vector([0.0, 0.0])  # sum_b w_b v_ab
+        rb = ti.Vector([0.0, 0.0])  # sum_b w_b v_ab b
+        for b in ti.static(range(3)):
+            wv = w[b][1] * gv[base[0] + a, base[1] + b]
+            r0 += wv
+            if ti.static(b > 0):
+                rb += b * wv
+        s0 += w[a][0] * r0
+        if ti.static(a > 0):
+            sa += (a * w[a][0]) * r0
+        sb += w[a][0] * rb
+    k = 4.0 * inv_h
+    new_C = k * ti.Matrix([[sa[0] - s0[0] * fx[0], sb[0] - s0[0] * fx[1]],
+                           [sa[1] - s0[1] * fx[0], sb[1] - s0[1] * fx[1]]])
+    return s0, new_C
 
 
 _G2P_KERNELS: dict = {}
