@@ -30,34 +30,36 @@ def drucker_prager_update(sigma, s_yy, L, rho, dt, prm):
 
     dgamma_p is the equivalent plastic shear strain increment (tau* - mu_s P*)/G; for
     disconnected material (stress-free) it is the total shear strain increment dt*sqrt(2 D':D') (3D deviator).
+    Written in components (xx, xz, zz, yy): in 2D, W T - T W = w [[2 T_xz, T_zz - T_xx], [., -2 T_xz]]
+    with w = W_xz = (L_xz - L_zx)/2.
     """
     G, lam, mu_s, rho_c = prm[0], prm[1], prm[2], prm[3]
-    D = 0.5 * (L + L.transpose())
-    W = 0.5 * (L - L.transpose())
-    tr_d = D.trace()
-    eye = ti.Matrix.identity(float, 2)
+    d_xx, d_zz, d_xz = L[0, 0], L[1, 1], 0.5 * (L[0, 1] + L[1, 0])
+    w = 0.5 * (L[0, 1] - L[1, 0])
+    tr_d = d_xx + d_zz
     # Jaumann trial stress: T* = T + dt (2 G D + lam tr(D) I + W T - T W); D_yy = 0 (plane strain)
-    sig = sigma + dt * (2.0 * G * D + lam * tr_d * eye + W @ sigma - sigma @ W)
-    syy = s_yy + dt * lam * tr_d
-    p = -(sig.trace() + syy) / 3.0
+    s_xx, s_zz, s_xz = sigma[0, 0], sigma[1, 1], sigma[0, 1]
+    rot = 2.0 * w * s_xz
+    t_xx = s_xx + dt * (2.0 * G * d_xx + lam * tr_d + rot)
+    t_zz = s_zz + dt * (2.0 * G * d_zz + lam * tr_d - rot)
+    t_xz = s_xz + dt * (2.0 * G * d_xz + w * (s_zz - s_xx))
+    t_yy = s_yy + dt * lam * tr_d
+    p = -(t_xx + t_zz + t_yy) / 3.0
     dgamma = 0.0 * p
     if rho < rho_c or p <= 0.0:
         # free separation: (rho - rho_c) P = 0, disconnected material carries no stress
-        dev_rate = D - tr_d / 3.0 * eye  # 3D deviator of D, whose yy part is -tr(D)/3
-        dgamma = dt * ti.sqrt(2.0 * ((dev_rate * dev_rate).sum() + (tr_d / 3.0) ** 2))
-        sig = sig * 0.0
-        syy = 0.0 * syy
+        e_xx, e_zz, e_yy = d_xx - tr_d / 3.0, d_zz - tr_d / 3.0, -tr_d / 3.0  # 3D deviator of D
+        dgamma = dt * ti.sqrt(2.0 * (e_xx * e_xx + e_zz * e_zz + e_yy * e_yy + 2.0 * d_xz * d_xz))
+        t_xx, t_zz, t_xz, t_yy = 0.0, 0.0, 0.0, 0.0
     else:
-        dev = sig + p * eye
-        dev_yy = syy + p
-        tau = ti.sqrt(0.5 * ((dev * dev).sum() + dev_yy * dev_yy))
+        a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
+        tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
         if tau > mu_s * p:
             # radial return at fixed pressure: tau -> mu_s P
             scale = mu_s * p / tau
             dgamma = (tau - mu_s * p) / G
-            sig = dev * scale - p * eye
-            syy = dev_yy * scale - p
-    return sig, syy, dgamma
+            t_xx, t_zz, t_yy, t_xz = a_xx * scale - p, a_zz * scale - p, a_yy * scale - p, t_xz * scale
+    return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
 
 
 def drucker_prager_update_numpy(
