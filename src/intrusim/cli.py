@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 import typer
@@ -156,6 +156,75 @@ def reproduce(
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
     for p in FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm):
+        typer.echo(str(p))
+
+
+def _locomotor(name: str) -> Any:
+    """A shipped locomotor ('small_wheel' spelt either way) or a scenario .toml file."""
+    from intrusim.scenarios import LOCOMOTORS, load_scenario
+
+    alias = name.replace("_", "-")
+    return load_scenario(alias if alias in LOCOMOTORS else name)
+
+
+@app.command()
+def calibrate(
+    scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
+    mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
+    params: str = typer.Option("xi,psi", help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam."),
+    structural: Optional[str] = typer.Option(None, help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none."),
+    mpm_push: bool = typer.Option(True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."),
+    psi_from_dh: str = typer.Option("none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."),
+    check: list[str] = typer.Option([], help="Transfer check NAME=CSV (a scenario and its MPM sweep), fitted values reused; repeatable."),
+    model: str = typer.Option("drft", help="Force model: drft (rft or drft-inertial ignore psi)."),
+    starts: int = typer.Option(8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."),
+    out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
+    name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
+) -> None:
+    """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
+    from intrusim.analysis.calibration import calibrate as fit
+    from intrusim.analysis.calibration import load_reference, with_mpm_push, with_parameters
+    from intrusim.figures_calibration import Check, psi_from_surface_drop, write_calibration
+
+    try:
+        names = [p.strip() for p in params.split(",") if p.strip()]
+        if psi_from_dh not in ("none", "linear", "affine"):
+            raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
+        if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
+            raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
+        start = _locomotor(scenario)
+        if structural is not None:
+            start = start.model_copy(update=dict(force_model=start.force_model.model_validate({**start.force_model.model_dump(), "structural": structural})))
+        start = with_mpm_push(start) if mpm_push else start
+        ref = load_reference(mpm, start.name)
+        if psi_from_dh != "none":
+            psi = psi_from_surface_drop(start, ref)
+            if psi is None:
+                raise InputError(f"{mpm}: fewer than 2 runs with a measured rear surface drop")
+            slope, offset = (psi["linear_slope"], 0.0) if psi_from_dh == "linear" else (psi["affine_slope"], psi["affine_offset"])
+            start = with_parameters(start, {"psi": slope, "psi_offset": offset})
+        checks = []
+        for item in check:
+            label, sep, path = item.partition("=")
+            if not sep:
+                raise InputError(f"--check must be NAME=CSV, got {item!r}")
+            s = _locomotor(label.strip())
+            checks.append(Check(label.strip(), with_mpm_push(s) if mpm_push else s, load_reference(path.strip(), s.name)))
+        res = fit(start, ref, names, kind=model, starts=starts)
+    except (InputError, ValueError) as err:
+        _fail(err)
+    meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
+                        "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model,
+                        "starts": starts}}  # fmt: skip
+    paths = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
+    c = res.comparison
+    typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
+    typer.echo(f"{'omega RPM':>9} | {'v MPM':>7} | {'v DRFT':>7} | {'dv':>6} | {'s MPM mm':>8} | {'s DRFT mm':>9} | {'ds':>6}")
+    for row in zip(c.omega_rpm, c.velocity_ref, c.velocity_model, c.rel_error_velocity, c.sinkage_ref, c.sinkage_model, c.rel_error_sinkage):
+        w, v0, v1, dv, s0, s1, ds = row
+        typer.echo(f"{w:9.4g} | {v0:7.4f} | {v1:7.4f} | {dv:+6.1%} | {s0 * 1e3:8.2f} | {s1 * 1e3:9.2f} | {ds:+6.1%}")
+    typer.echo(f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}")
+    for p in paths:
         typer.echo(str(p))
 
 

@@ -80,8 +80,9 @@ def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     """Fig 5C: rear free-surface drop dh from MPM vs omega, against dh = r (r omega^2 / g).
 
     Also fits psi(x) = a x (least squares through the origin; paper: a = 1) and the affine
-    dh = dh0 + b r x.
+    dh = dh0 + b r x (:mod:`intrusim.analysis.calibration`).
     """
+    from intrusim.analysis.calibration import fit_psi_affine, fit_psi_linear
     from intrusim.scenarios import grousered_wheel_scenario
 
     s = grousered_wheel_scenario()
@@ -91,9 +92,10 @@ def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     x = r * w**2 / s.gravity
     dh = res.column("surface_drop")
     ok = np.isfinite(dh)
-    a = float(np.sum(x[ok] * dh[ok] / r) / np.sum(x[ok] ** 2)) if ok.any() else np.nan
+    a = fit_psi_linear(w[ok], dh[ok], r, s.gravity) if ok.any() else np.nan
     # affine fit dh = dh0 + b r x: MPM's rear contact sits below the surface even when slow
-    (dh0, b), *_ = np.linalg.lstsq(np.column_stack([np.ones(ok.sum()), r * x[ok]]), dh[ok], rcond=None) if ok.sum() > 1 else ((np.nan, np.nan),)
+    a0, b = fit_psi_affine(w[ok], dh[ok], r, s.gravity) if ok.sum() > 1 else (np.nan, np.nan)
+    dh0 = a0 * r
     fig, ax = plt.subplots(figsize=(4.8, 3.6))
     ax.plot(res.omega_rpm, dh * 1e3, "o", color="tab:red", label="MPM (highest loaded rear contact)")
     ww = np.linspace(0, res.omega_rpm.max(), 100)

@@ -15,8 +15,9 @@ it and to draw traction arrows.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
-from typing import Literal, Protocol
+from typing import Callable, Literal, Protocol
 
 import numba
 import numpy as np
@@ -25,7 +26,7 @@ from intrusim._checks import InputError, finite, non_negative
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
-    MID_ANGLE_TIE, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
+    MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
 from intrusim.laws.rft import A_COEF, B_COEF, C_COEF, D_COEF, N_PER_CM3, rft_traction
 
@@ -298,14 +299,18 @@ class ResistiveForceModel:
         (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
         fs_gravity): fs_kind 0 = flat free surface, 1 / 2 = :class:`WheelRearHalf` with the
         "submerged" / "effective" split and the paper's psi (identity), whose drop
-        dh = r (r omega^2 / g) the loop evaluates itself. None for a free-surface model without
-        a compiled form (the integrator then uses its Python loop and ``wrench_tuple``).
+        dh = r (r omega^2 / g) the loop evaluates itself. A linear psi(x) = c x is compiled as
+        the identity with g / c in place of g (dh = c r^2 omega^2 / g, equal to rounding). None
+        for a free-surface model without a compiled form (an affine psi with an offset, a
+        user-defined one): the integrator then uses its Python loop and ``wrench_tuple``.
         """
         fs = self.free_surface
         if type(fs) is FlatFreeSurface:
             kind, r, g = 0, 1.0, 1.0
-        elif type(fs) is WheelRearHalf and fs.psi is identity_psi:
+        elif type(fs) is WheelRearHalf and (fs.psi is identity_psi or _is_linear(fs.psi)):
             kind, r, g = (1 if fs.split == "submerged" else 2), float(fs.radius), float(fs.gravity)
+            if fs.psi is not identity_psi:
+                g = g / fs.psi.slope if fs.psi.slope > 0.0 else math.inf  # type: ignore[attr-defined]
         else:
             return None
         return (
@@ -332,6 +337,11 @@ class ResistiveForceModel:
         return Wrench(float(f[:, 0].sum()), float(f[:, 1].sum()), moment)
 
 
+def _is_linear(psi: object) -> bool:
+    """psi(x) = c x (an :class:`AffinePsi` without offset)."""
+    return type(psi) is AffinePsi and psi.offset == 0.0
+
+
 def make_force_model(
     kind: ModelKind,
     shape: Shape,
@@ -342,6 +352,7 @@ def make_force_model(
     structural: Structural = "none",
     surface_z: float = 0.0,
     elements: SurfaceElements | None = None,
+    psi: Callable[[float], float] = identity_psi,
 ) -> ResistiveForceModel:
     """Build one of the paper's force models for ``shape``.
 
@@ -352,6 +363,9 @@ def make_force_model(
         the free-surface model (``"wheel-rear-half"`` for wheels, ``"none"`` for plates/runners;
         ``"wheel-rear-half-effective"``: the contact arc ends at the lowered rear surface, see
         :class:`~intrusim.laws.drft.WheelRearHalf`).
+    psi
+        free-surface law of the wheel structural correction, dh = r psi(r omega^2 / g) (paper:
+        the identity; :func:`~intrusim.laws.drft.free_surface_law` builds a fitted affine one).
     """
     els = shape.elements if elements is None else elements
     if kind == "rft":
@@ -363,8 +377,8 @@ def make_force_model(
             raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
         fs: FreeSurfaceModel = FlatFreeSurface()
         if structural == "wheel-rear-half":
-            fs = WheelRearHalf(shape.radius)
+            fs = WheelRearHalf(shape.radius, psi=psi)
         elif structural == "wheel-rear-half-effective":
-            fs = WheelRearHalf(shape.radius, split="effective")
+            fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
         return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z)
     raise InputError(f"force model kind must be 'rft', 'drft-inertial' or 'drft', got {kind!r}")

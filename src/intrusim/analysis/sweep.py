@@ -89,6 +89,34 @@ class SweepResult:
                 w.writerow({k: r.get(k, "") for k in names})
         return p
 
+    @classmethod
+    def from_csv(cls, path: str | Path, scenario: str = "", kind: str = "") -> "SweepResult":
+        """Read records written by :meth:`to_csv` (e.g. ``runs/mpm/*_mpm_sweep.csv``).
+
+        ``ok`` and ``settled`` become booleans, ``error`` stays text, every other column a float
+        (an empty cell: NaN). Rows keep the file's order. Raises InputError if the file is
+        missing or has no ``omega_rpm`` / ``ok`` column.
+        """
+        p = Path(path)
+        if not p.is_file():
+            raise InputError(f"sweep CSV not found: {p}")
+        with p.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+        if not rows or not {"omega_rpm", "ok"} <= set(rows[0]):
+            raise InputError(f"{p}: not a sweep CSV (needs the columns omega_rpm and ok, and at least one row)")
+        records = []
+        for row in rows:
+            rec: dict[str, Any] = {}
+            for k, v in row.items():
+                if k in ("ok", "settled"):
+                    rec[k] = v.strip().lower() in ("true", "1", "1.0")
+                elif k == "error":
+                    rec[k] = v
+                else:
+                    rec[k] = float(v) if v.strip() else math.nan
+            records.append(rec)
+        return cls(scenario, kind, None, records, meta={"source": str(p)})
+
 
 def _run_dask(
     scenario: Any, kind: str, omegas: list[float], lam: float | None, scheduler_address: str | None,

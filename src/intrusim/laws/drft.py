@@ -6,7 +6,8 @@
 * dynamic structural correction: the free surface seen by an element is lowered by dh.
   For a driven wheel (paper, Fig 5C) dh = r psi(r omega^2 / g) with psi the identity, on the
   elements in the REAR half of the wheel-sand contact arc (split by the angle subtended at the
-  wheel centre); dh = 0 in front.
+  wheel centre); dh = 0 in front. Calibrated on MPM, psi may be affine:
+  psi(x) = a + c x (:class:`AffinePsi`, :mod:`intrusim.analysis.calibration`).
 """
 
 from __future__ import annotations
@@ -41,6 +42,32 @@ def inertial_traction(normal: np.ndarray, velocity: np.ndarray, rho: float, lam:
 def identity_psi(x: float) -> float:
     """The paper's free-surface law psi(x) = x (Fig 5C)."""
     return x
+
+
+@dataclass(frozen=True)
+class AffinePsi:
+    """Free-surface law psi(x) = offset + slope x, dimensionless (x = r omega^2 / g).
+
+    The paper's law is the identity (offset 0, slope 1); fitted to our MPM rear-surface drop
+    (Fig 5C) it is ~0.5 x, or ~0.12 + 0.34 x (docs/results.md).
+    """
+
+    slope: float = 1.0
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        non_negative("psi slope", self.slope)
+        finite("psi offset", self.offset)
+
+    def __call__(self, x: float) -> float:
+        return self.offset + self.slope * x
+
+
+def free_surface_law(slope: float = 1.0, offset: float = 0.0) -> Callable[[float], float]:
+    """psi(x) = offset + slope x; the paper's :func:`identity_psi` itself for (1, 0)."""
+    if slope == 1.0 and offset == 0.0:
+        return identity_psi
+    return AffinePsi(slope, offset)
 
 
 def structural_depth_shift(

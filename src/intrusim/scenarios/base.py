@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from intrusim._checks import InputError
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
+from intrusim.laws.drft import free_surface_law
 
 ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
 
@@ -57,12 +58,17 @@ class ForceModelConfig(Config):
     lam : lambda of the inertial correction (wheel 1; runner 0, 2 or 4; plate drag 1.1).
     structural : dynamic structural correction: "wheel-rear-half" (wheels), "none", or
         "wheel-rear-half-effective" (the contact arc ends at the lowered rear surface).
+    psi_slope, psi_offset : free-surface law of the structural correction,
+        dh = r psi(r omega^2 / g) with psi(x) = psi_offset + psi_slope x (dimensionless; the
+        paper: the identity, 1 and 0; fitted on MPM by :mod:`intrusim.analysis.calibration`).
     """
 
     xi: float = Field(0.35, ge=0.0)
     rho: float = Field(638.0, ge=0.0)
     lam: float = Field(1.0, ge=0.0)
     structural: Literal["none", "wheel-rear-half", "wheel-rear-half-effective"] = "none"
+    psi_slope: float = Field(1.0, ge=0.0, allow_inf_nan=False)
+    psi_offset: float = Field(0.0, allow_inf_nan=False)
 
 
 class RunConfig(Config):
@@ -135,4 +141,5 @@ class ModelKindsMixin(Config):
         lam_v = fm.lam if lam is None else lam
         if lam_v < 0 or not math.isfinite(lam_v):
             raise InputError(f"lambda must be a finite number >= 0, got {lam!r}")
-        return make_force_model(kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural)
+        psi = free_surface_law(fm.psi_slope, fm.psi_offset)
+        return make_force_model(kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi)

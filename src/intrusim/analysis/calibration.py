@@ -1,0 +1,404 @@
+"""DRFT calibrated on MPM runs (mission part 6): the free-surface law and the DRFT parameters.
+
+Two fits:
+
+* :func:`fit_psi_linear`, :func:`fit_psi_affine`: the free-surface law psi from the rear
+  free-surface drop dh that MPM measures (paper Fig 5C): dh = r psi(x), x = r omega^2 / g, with
+  psi(x) = c x (least squares through the origin; the paper: c = 1) or psi(x) = a + c x.
+* :func:`calibrate`: chosen DRFT parameters of a locomotor scenario (:data:`PARAMETERS`: xi,
+  the psi slope and offset, lambda) fitted to MPM steady states (velocity and sinkage at each
+  omega) by bounded least squares on the relative errors (``scipy.optimize.least_squares``).
+
+:func:`compare` evaluates a scenario against a reference without fitting (e.g. the small wheel
+with the parameters calibrated on the large one: the transfer check of Fig S1).
+
+A reference is a :class:`~intrusim.analysis.sweep.SweepResult` of MPM steady states
+(:func:`load_reference` reads ``runs/mpm/*_mpm_sweep.csv``): columns ``velocity`` (m/s),
+``sinkage`` (m) and, for psi, ``surface_drop`` (m), at ``omega_rpm`` (RPM).
+
+The DRFT steady state is a piecewise-smooth function of the parameters (elements switch on and
+off as the body moves), so the Jacobian is taken by finite differences over a finite step
+(``diff_step``, 2 % by default), not at machine precision.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import qmc
+
+from intrusim.analysis.sweep import SweepResult, sweep_omega
+from intrusim.params import GRAVITY
+from intrusim.scenarios.base import ForceModelConfig
+from intrusim.scenarios.locomotor import LocomotorScenario
+
+RPM = 2.0 * math.pi / 60.0  # rad/s per RPM
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A fittable DRFT parameter: the :class:`ForceModelConfig` field it sets and its default bounds."""
+
+    field: str
+    bounds: tuple[float, float]
+    description: str
+
+
+PARAMETERS: dict[str, Parameter] = {
+    "xi": Parameter("xi", (0.05, 5.0), "media scaling of the Li (2013) fit: the RFT stiffness K (paper 0.35)"),
+    "psi": Parameter("psi_slope", (0.0, 5.0), "slope c of the free-surface law psi(x) = a + c x (paper 1)"),
+    "psi_offset": Parameter("psi_offset", (-0.5, 0.5), "offset a of psi(x) = a + c x (paper 0)"),
+    "lam": Parameter("lam", (0.0, 50.0), "lambda of the inertial correction (paper wheel 1)"),
+}
+
+FAILED_RESIDUAL = 10.0
+"""Relative error given to a DRFT point that fails (integrator error, no contact): 1000 %."""
+
+FINER_STEP = 4
+"""A failed DRFT point is retried once with its time step divided by this."""
+
+
+# --- the free-surface law from the measured rear drop (Fig 5C) ------------------------------------
+def _psi_data(omega: Any, surface_drop: Any, radius: float, gravity: float, min_points: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) = (r omega^2 / g, dh / r), checked."""
+    w = np.asarray(omega, float)
+    dh = np.asarray(surface_drop, float)
+    if w.ndim != 1 or w.shape != dh.shape:
+        raise ValueError(f"omega and surface_drop must be 1-D arrays of equal length, got {w.shape} and {dh.shape}")
+    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(dh))):
+        raise ValueError("omega and surface_drop must be finite (drop the NaN points of runs without a measured drop first)")
+    if not (radius > 0.0 and gravity > 0.0 and math.isfinite(radius) and math.isfinite(gravity)):
+        raise ValueError(f"radius and gravity must be finite and > 0, got {radius!r}, {gravity!r}")
+    x = radius * w**2 / gravity
+    if len(np.unique(x)) < min_points:
+        raise ValueError(f"need at least {min_points} distinct |omega| to fit psi, got {len(np.unique(x))}")
+    return x, dh / radius
+
+
+def fit_psi_linear(omega: Any, surface_drop: Any, radius: float, gravity: float = GRAVITY) -> float:
+    """Slope c of psi(x) = c x fitted to the rear surface drop: least squares of dh / r on x.
+
+    Parameters
+    ----------
+    omega : (N,) angular velocities, rad/s (the sign does not matter).
+    surface_drop : (N,) measured rear free-surface drop dh, m (Fig 5C).
+    radius : wheel radius r, m (the nominal outer radius of the structural correction).
+    gravity : g, m/s^2.
+
+    Returns
+    -------
+    c, dimensionless (the paper's law: c = 1).
+    """
+    x, y = _psi_data(omega, surface_drop, radius, gravity, 1)
+    return float(np.sum(x * y) / np.sum(x * x))
+
+
+def fit_psi_affine(omega: Any, surface_drop: Any, radius: float, gravity: float = GRAVITY) -> tuple[float, float]:
+    """(a, c) of psi(x) = a + c x fitted to the rear surface drop: least squares of dh / r on x.
+
+    Parameters as :func:`fit_psi_linear` (needs two distinct omegas). dh = r a + c r x, so r a
+    (m) is the drop extrapolated to omega = 0.
+    """
+    x, y = _psi_data(omega, surface_drop, radius, gravity, 2)
+    (a, c), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(x), x]), y, rcond=None)
+    return float(a), float(c)
+
+
+# --- the reference and the DRFT parameters ----------------------------------------------------
+def load_reference(path: Any, scenario: str = "") -> SweepResult:
+    """MPM steady states from a sweep CSV: the finished (ok) rows, sorted by omega."""
+    res = SweepResult.from_csv(path)
+    rows = sorted((r for r in res.records if r["ok"]), key=lambda r: r["omega_rpm"])
+    if not rows:
+        raise ValueError(f"{path}: no finished (ok) MPM run")
+    return SweepResult(scenario, "mpm", None, rows, meta=res.meta)
+
+
+def _reference_arrays(reference: SweepResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(omega_rpm, velocity, sinkage) of a reference, checked for what relative errors need."""
+    w, v, s = reference.omega_rpm, reference.column("velocity"), reference.column("sinkage")
+    if len(w) < 2:
+        raise ValueError(f"the reference needs at least 2 omegas, got {len(w)}")
+    for name, a in (("omega_rpm", w), ("velocity", v), ("sinkage", s)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"the reference {name} has NaN or infinite values (failed runs?): {a}")
+    if np.any(w <= 0.0):
+        raise ValueError(f"reference omega_rpm must be > 0, got {w}")
+    if np.any(v == 0.0) or np.any(s == 0.0):
+        raise ValueError("relative errors need a non-zero reference velocity and sinkage at every omega")
+    return w, v, s
+
+
+def _check_names(params: Sequence[str]) -> tuple[str, ...]:
+    names = tuple(params)
+    unknown = [p for p in names if p not in PARAMETERS]
+    if unknown:
+        raise ValueError(f"unknown DRFT parameter(s) {unknown}; known: {sorted(PARAMETERS)}")
+    if not names or len(set(names)) != len(names):
+        raise ValueError(f"give one or more distinct parameters, got {list(names)}")
+    return names
+
+
+def parameter_values(scenario: LocomotorScenario, params: Sequence[str]) -> dict[str, float]:
+    """The scenario's current values of ``params`` (names of :data:`PARAMETERS`)."""
+    return {p: float(getattr(scenario.force_model, PARAMETERS[p].field)) for p in _check_names(params)}
+
+
+def with_parameters(scenario: LocomotorScenario, values: Mapping[str, float]) -> LocomotorScenario:
+    """A copy of ``scenario`` whose force model has ``values`` (names of :data:`PARAMETERS`), validated."""
+    names = _check_names(list(values))
+    data = scenario.force_model.model_dump()
+    data.update({PARAMETERS[p].field: float(values[p]) for p in names})
+    return scenario.model_copy(update=dict(force_model=ForceModelConfig.model_validate(data)))
+
+
+def with_mpm_push(scenario: LocomotorScenario) -> LocomotorScenario:
+    """``scenario`` with the constant forward force of its MPM runs as ``external_fx``, N.
+
+    The MPM wheel runs push the wheel forward (the paper's rig-friction compensation: 4 N for the
+    Table S1 wheel, scaled by m_x for other wheels; runner 0), while the shipped RFT/DRFT
+    scenarios use 0 N. DRFT calibrated on those runs should drive the same body under the same
+    loads.
+    """
+    from intrusim.scenarios.mpm_locomotion import forward_force, paper_settings
+
+    return scenario.model_copy(update=dict(external_fx=forward_force(scenario, paper_settings(scenario.body))))
+
+
+def drft_steady_states(scenario: LocomotorScenario, omega_rpm: Sequence[float], kind: str = "drft") -> SweepResult:
+    """Serial DRFT steady states at ``omega_rpm``; a failed point is retried once with a finer step.
+
+    Points that still fail stay error records (NaN velocity and sinkage).
+    """
+    res = sweep_omega(scenario, kind, omega_rpm, parallel=False, progress=False)
+    bad = [i for i, r in enumerate(res.records) if not r["ok"]]
+    if bad:
+        run = scenario.run.model_copy(
+            update=dict(dt_max=scenario.run.dt_max / FINER_STEP, steps_per_revolution=scenario.run.steps_per_revolution * FINER_STEP)
+        )  # fmt: skip
+        retry = sweep_omega(scenario.model_copy(update=dict(run=run)), kind, [res.records[i]["omega_rpm"] for i in bad], parallel=False, progress=False)
+        for i, rec in zip(bad, retry.records):
+            res.records[i] = rec
+    return res
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A model against a reference at the reference omegas (SI; relative errors (model - ref) / |ref|).
+
+    Attributes
+    ----------
+    name : scenario name.
+    omega_rpm : (N,) RPM.
+    velocity_ref, sinkage_ref : (N,) reference (MPM) steady states, m/s and m.
+    velocity_model, sinkage_model : (N,) model steady states (NaN where the model failed).
+    """
+
+    name: str
+    omega_rpm: np.ndarray
+    velocity_ref: np.ndarray
+    sinkage_ref: np.ndarray
+    velocity_model: np.ndarray
+    sinkage_model: np.ndarray
+
+    @property
+    def rel_error_velocity(self) -> np.ndarray:
+        return (self.velocity_model - self.velocity_ref) / np.abs(self.velocity_ref)
+
+    @property
+    def rel_error_sinkage(self) -> np.ndarray:
+        return (self.sinkage_model - self.sinkage_ref) / np.abs(self.sinkage_ref)
+
+    @property
+    def max_abs_rel_error_velocity(self) -> float:
+        """max |relative error| of the velocity (inf if a model point failed)."""
+        return _max_abs(self.rel_error_velocity)
+
+    @property
+    def max_abs_rel_error_sinkage(self) -> float:
+        return _max_abs(self.rel_error_sinkage)
+
+    @property
+    def max_abs_rel_error(self) -> float:
+        return max(self.max_abs_rel_error_velocity, self.max_abs_rel_error_sinkage)
+
+    def residuals(self) -> np.ndarray:
+        """Relative errors of velocity then sinkage; a failed point counts :data:`FAILED_RESIDUAL`."""
+        r = np.concatenate([self.rel_error_velocity, self.rel_error_sinkage])
+        return np.where(np.isfinite(r), r, FAILED_RESIDUAL)
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready: per-omega numbers and the largest relative errors."""
+        return {
+            "scenario": self.name, "omega_rpm": self.omega_rpm.tolist(),
+            "velocity_ref_m_s": self.velocity_ref.tolist(), "velocity_model_m_s": _list(self.velocity_model),
+            "sinkage_ref_m": self.sinkage_ref.tolist(), "sinkage_model_m": _list(self.sinkage_model),
+            "rel_error_velocity": _list(self.rel_error_velocity), "rel_error_sinkage": _list(self.rel_error_sinkage),
+            "max_abs_rel_error_velocity": _num(self.max_abs_rel_error_velocity),
+            "max_abs_rel_error_sinkage": _num(self.max_abs_rel_error_sinkage),
+        }  # fmt: skip
+
+
+def _max_abs(a: np.ndarray) -> float:
+    return float(np.max(np.abs(a))) if np.all(np.isfinite(a)) else math.inf
+
+
+def _num(v: float) -> float | None:
+    return float(v) if math.isfinite(v) else None
+
+
+def _list(a: np.ndarray) -> list[float | None]:
+    return [_num(float(v)) for v in a]
+
+
+def compare(scenario: LocomotorScenario, reference: SweepResult, kind: str = "drft") -> Comparison:
+    """DRFT (``kind``) steady states of ``scenario`` against ``reference`` at its omegas."""
+    w, _, _ = _reference_arrays(reference)
+    return comparison(scenario.name, reference, drft_steady_states(scenario, w, kind))
+
+
+def comparison(name: str, reference: SweepResult, model: SweepResult) -> Comparison:
+    """The ``model`` sweep against ``reference`` at the reference omegas (the model must have each of them)."""
+    w, v, s = _reference_arrays(reference)
+    at = [np.flatnonzero(model.omega_rpm == wi) for wi in w]
+    missing = [float(wi) for wi, i in zip(w, at) if len(i) == 0]
+    if missing:
+        raise ValueError(f"the model sweep has no steady state at the reference omegas {missing} RPM")
+    idx = [int(i[0]) for i in at]
+    return Comparison(name, w, v, s, model.column("velocity")[idx], model.column("sinkage")[idx])
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    """Outcome of :func:`calibrate`.
+
+    Attributes
+    ----------
+    scenario : the calibrated scenario (force model with the fitted values).
+    params : names of the fitted parameters (:data:`PARAMETERS`).
+    values, initial : fitted and starting values, by name.
+    bounds : (low, high) of each fitted parameter.
+    comparison : the calibrated model against the reference (per-omega relative errors).
+    cost : 1/2 sum of the squared residuals at the fit.
+    nfev : distinct parameter sets evaluated (each one DRFT steady state per reference omega),
+        all local fits together.
+    success, message : from scipy.optimize.least_squares.
+    """
+
+    scenario: LocomotorScenario
+    params: tuple[str, ...]
+    values: dict[str, float]
+    initial: dict[str, float]
+    bounds: dict[str, tuple[float, float]]
+    comparison: Comparison
+    cost: float
+    nfev: int
+    success: bool
+    message: str
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def max_abs_rel_error(self) -> float:
+        """Largest |relative error| of velocity and sinkage over the reference omegas."""
+        return self.comparison.max_abs_rel_error
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready record of the fit."""
+        fm = self.scenario.force_model
+        return {
+            "scenario": self.scenario.name, "params": list(self.params), "values": self.values,
+            "initial": self.initial, "bounds": {k: list(b) for k, b in self.bounds.items()},
+            "force_model": fm.model_dump(mode="json"), "external_fx_N": self.scenario.external_fx,
+            "cost": self.cost, "nfev": self.nfev, "success": self.success, "message": self.message,
+            "max_abs_rel_error": _num(self.max_abs_rel_error), "comparison": self.comparison.summary(), **self.meta,
+        }  # fmt: skip
+
+
+def calibrate(
+    scenario: LocomotorScenario,
+    reference: SweepResult,
+    params: Sequence[str] = ("xi", "psi"),
+    *,
+    kind: str = "drft",
+    initial: Mapping[str, float] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    diff_step: float = 0.02,
+    max_nfev: int = 60,
+    starts: int = 1,
+    seed: int = 0,
+) -> CalibrationResult:
+    """Fit DRFT parameters of ``scenario`` to MPM steady states by bounded least squares.
+
+    Minimises sum over the reference omegas of ((v - v_MPM) / v_MPM)^2 + ((s - s_MPM) / s_MPM)^2,
+    v the steady velocity and s the sinkage of the DRFT model, over ``params`` within ``bounds``
+    (scipy.optimize.least_squares, trust-region reflective, finite-difference Jacobian).
+
+    Parameters
+    ----------
+    scenario : LocomotorScenario; its other force-model settings (structural split, rho, the
+        parameters not fitted) and its body (mass, external force) are kept.
+    reference : MPM steady states (:func:`load_reference`), at least 2 omegas, finite.
+    params : names from :data:`PARAMETERS`: "xi", "psi" (slope c), "psi_offset" (a), "lam".
+    kind : DRFT force-model kind ("drft"; "rft" or "drft-inertial" ignore the psi parameters).
+    initial : starting values (default: the scenario's, clipped into the bounds).
+    bounds : (low, high) per parameter (default :data:`PARAMETERS` bounds).
+    diff_step : relative finite-difference step of the Jacobian (the steady state is only
+        piecewise smooth in the parameters: machine-precision steps see its jumps).
+    max_nfev : most residual evaluations of one local fit.
+    starts : local fits to run: from ``initial``, then from ``starts - 1`` points of a scrambled
+        Halton sequence (``seed``) filling the bounds; the fit of least cost is returned (the
+        cost has several local minima: the steady state jumps as elements switch on and off).
+    seed : seed of the Halton sequence.
+
+    Raises
+    ------
+    ValueError for unknown or repeated parameter names, bad bounds or starting values, fewer
+    than 2 reference omegas or fewer residuals (2 per omega) than parameters, NaN reference data.
+    """
+    names = _check_names(params)
+    w, _, _ = _reference_arrays(reference)
+    if 2 * len(w) < len(names):
+        raise ValueError(f"{len(names)} parameters need at least {len(names)} residuals, got {2 * len(w)} (2 per omega)")
+    bnd = {p: tuple(float(b) for b in (bounds or {}).get(p, PARAMETERS[p].bounds)) for p in names}
+    for p, (lo, hi) in bnd.items():
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ValueError(f"bounds of {p} must be finite with low < high, got {(lo, hi)}")
+    x0 = parameter_values(scenario, names) | {p: float(v) for p, v in (initial or {}).items() if p in names}
+    unknown = set(initial or {}) - set(names)
+    if unknown:
+        raise ValueError(f"initial values given for parameters that are not fitted: {sorted(unknown)}")
+    if not all(math.isfinite(v) for v in x0.values()):
+        raise ValueError(f"initial values must be finite, got {x0}")
+    start = np.array([min(max(x0[p], bnd[p][0]), bnd[p][1]) for p in names])
+    cache: dict[tuple[float, ...], Comparison] = {}
+
+    def evaluate(x: np.ndarray) -> Comparison:
+        key = tuple(float(v) for v in x)
+        if key not in cache:
+            cache[key] = compare(with_parameters(scenario, dict(zip(names, key))), reference, kind)
+        return cache[key]
+
+    if starts < 1:
+        raise ValueError(f"starts must be >= 1, got {starts!r}")
+    lo, hi = np.array([bnd[p][0] for p in names]), np.array([bnd[p][1] for p in names])
+    points = [start]
+    if starts > 1:
+        points += list(lo + (hi - lo) * qmc.Halton(len(names), seed=seed).random(starts - 1))
+    fits = [
+        least_squares(lambda x: evaluate(x).residuals(), x, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev)
+        for x in points
+    ]  # fmt: skip
+    fit = min(fits, key=lambda f: f.cost)
+    values = dict(zip(names, (float(v) for v in fit.x)))
+    local = [{"start": dict(zip(names, map(float, x))), "values": dict(zip(names, map(float, f.x))), "cost": float(f.cost)}
+             for x, f in zip(points, fits)]  # fmt: skip
+    return CalibrationResult(
+        scenario=with_parameters(scenario, values), params=names, values=values,
+        initial=dict(zip(names, (float(v) for v in start))), bounds=bnd, comparison=evaluate(fit.x),
+        cost=float(fit.cost), nfev=len(cache), success=bool(fit.success), message=str(fit.message),
+        meta={"local_fits": local} if starts > 1 else {},
+    )  # fmt: skip
