@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import taichi as ti
 
+from . import backend
+
 if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
     from .grid import Grid
 
@@ -86,6 +88,7 @@ def rigid_polygon_contact(
     are outside the band and skip the distance computation.
     """
     c, s = ti.cos(theta), ti.sin(theta)
+    ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for i, j in ti.ndrange((i0, i1), (j0, j1)):
         node = ti.Vector([(i - pad) * h, (j - pad) * h])
         r = node - ti.Vector([bx, bz])

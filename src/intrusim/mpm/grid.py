@@ -7,6 +7,7 @@ Node (i, j) sits at ((i - pad) h, (j - pad) h); the physical domain is [0, Lx] x
 import numpy as np
 import taichi as ti
 
+from . import backend
 from .backend import info
 from .boundaries import wall_velocity
 
@@ -81,12 +82,14 @@ def grid_update(
     nc = m_parts.shape[0]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
     b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
+    ti.loop_config(serialize=True)  # a reduction into b0-b3
     for c in range(nc):
         b0 = ti.min(b0, box_parts[c, 0])
         b1 = ti.max(b1, box_parts[c, 1])
         b2 = ti.min(b2, box_parts[c, 2])
         b3 = ti.max(b3, box_parts[c, 3])
     u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
+    ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for i in range(u0, u1):
         mask = 0
         for c in range(nc):
@@ -94,6 +97,7 @@ def grid_update(
                 mask |= 1 << c
         col_mask[i] = mask
     nj = ti.max(u3 - u2, 0)
+    ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
         i = u0 + q // nj
         j = u2 + q % nj

@@ -9,6 +9,8 @@ velocity gradient the constitutive update needs. Internal forces use the MLS-MPM
 
 import taichi as ti
 
+from . import backend
+
 
 @ti.func
 def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
@@ -52,61 +54,55 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     return base
 
 
-CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_chunked)
+CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
 @ti.kernel
-def p2g_chunked(
+def p2g_kernel(
     x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
     mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
     gm: ti.types.ndarray(), gp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int,
-    dt: float,
+    dt: float, chunked: ti.template(),
 ):
-    """P2G into one private grid copy per chunk of points (CPU): no atomics, fixed summation order.
+    """P2G into the grid copies ``gm``, ``gp``; ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
 
-    Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the few
-    chunks would run on one thread. The outer loop therefore has CHUNK_SPREAD iterations per chunk,
-    and only the first of them scatters that chunk's points (serially): the tasks are spread over
-    the threads, and each grid copy is still written by one iteration in point order, so the
-    result does not depend on the scheduling. ``box[c]`` = node box [i0, i1, j0, j1) chunk c touched.
+    ``chunked`` (CPU): one private copy per chunk of points, no atomics, fixed summation order.
+    Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the
+    few chunks would run on one thread: the outer loop has CHUNK_SPREAD iterations per chunk, and
+    only the first of them scatters that chunk's points, serially in point order. The tasks spread
+    over the threads and each copy's sums do not depend on the scheduling. Otherwise (GPU): one
+    copy and atomic adds.
     """
-    n = x.shape[0]
-    nc = gm.shape[0]
-    for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
-        if q % CHUNK_SPREAD == 0:
-            c = q // CHUNK_SPREAD
-            lo = ti.Vector([gm.shape[1], gm.shape[2]])
-            hi = ti.Vector([0, 0])
-            for p in range(c * n // nc, (c + 1) * n // nc):
-                base = scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, False)
-                lo = ti.min(lo, base)
-                hi = ti.max(hi, base + 3)
-            box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
-
-
-@ti.kernel
-def p2g_atomic(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gm: ti.types.ndarray(), gp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int,
-    dt: float,
-):
-    """P2G with atomic adds into grid copy 0 (GPU); ``box[0]`` = node box touched."""
-    box[0, 0], box[0, 1], box[0, 2], box[0, 3] = gm.shape[1], 0, gm.shape[2], 0
-    for p in range(x.shape[0]):
-        base = scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
-        ti.atomic_min(box[0, 0], base[0])
-        ti.atomic_max(box[0, 1], base[0] + 3)
-        ti.atomic_min(box[0, 2], base[1])
-        ti.atomic_max(box[0, 3], base[1] + 3)
+    if ti.static(chunked):
+        n = x.shape[0]
+        nc = gm.shape[0]
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
+            if q % CHUNK_SPREAD == 0:
+                c = q // CHUNK_SPREAD
+                lo = ti.Vector([gm.shape[1], gm.shape[2]])
+                hi = ti.Vector([0, 0])
+                for p in range(c * n // nc, (c + 1) * n // nc):
+                    base = scatter_point(p, c, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, False)
+                    lo = ti.min(lo, base)
+                    hi = ti.max(hi, base + 3)
+                box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
+    else:
+        box[0, 0], box[0, 1], box[0, 2], box[0, 3] = gm.shape[1], 0, gm.shape[2], 0
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for p in range(x.shape[0]):
+            base = scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
+            ti.atomic_min(box[0, 0], base[0])
+            ti.atomic_max(box[0, 1], base[0] + 3)
+            ti.atomic_min(box[0, 2], base[1])
+            ti.atomic_max(box[0, 3], base[1] + 3)
 
 
 def p2g(particles, grid, dt: float) -> None:
     """Particle-to-grid transfer into ``grid.m_parts`` / ``grid.p_parts`` (summed by the grid update)."""
-    kernel = p2g_chunked if grid.chunks > 1 else p2g_atomic
     p = particles
-    kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.m_parts, grid.p_parts, grid.box_parts,
-           grid.h, grid.pad, dt)
+    p2g_kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.m_parts, grid.p_parts, grid.box_parts,
+               grid.h, grid.pad, dt, grid.chunks > 1)
 
 
 @ti.func
@@ -159,6 +155,7 @@ def g2p_kernel(stress_update):
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
         gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float),
     ):
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
         for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
             new_v, L = g2p_point(x[p], gv, h, pad)
             v[p] = new_v
