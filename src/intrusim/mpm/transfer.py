@@ -71,7 +71,7 @@ def p2g_kernel(
     few chunks would run on one thread: the outer loop has CHUNK_SPREAD iterations per chunk, and
     only the first of them scatters that chunk's points, serially in point order. The tasks spread
     over the threads and each copy's sums do not depend on the scheduling. Otherwise (GPU): one
-    copy and atomic adds.
+    copy and atomic adds, and the box is the whole grid.
     """
     if ti.static(chunked):
         n = x.shape[0]
@@ -88,14 +88,11 @@ def p2g_kernel(
                     hi = ti.max(hi, base + 3)
                 box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
     else:
-        box[0, 0], box[0, 1], box[0, 2], box[0, 3] = gm.shape[1], 0, gm.shape[2], 0
+        # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
+        box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, gm.shape[1], 0, gm.shape[2]
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
         for p in range(x.shape[0]):
-            base = scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
-            ti.atomic_min(box[0, 0], base[0])
-            ti.atomic_max(box[0, 1], base[0] + 3)
-            ti.atomic_min(box[0, 2], base[1])
-            ti.atomic_max(box[0, 3], base[1] + 3)
+            scatter_point(p, 0, x, v, C, mass, vol, sigma, gm, gp, h, pad, dt, True)
 
 
 def p2g(particles, grid, dt: float) -> None:
