@@ -28,14 +28,15 @@ class Grid:
         if not 1 <= self.chunks <= 31:
             raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
-        self.m_parts = ti.ndarray(real, shape=(self.chunks, *self.shape))  # kg/m
-        self.p_parts = ti.Vector.ndarray(2, real, shape=(self.chunks, *self.shape))  # kg/s
+        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target
+        self.mp_parts = ti.Vector.ndarray(3, real, shape=(self.chunks, *self.shape))  # kg/s, kg/m
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
         self.box_parts = ti.ndarray(ti.i32, shape=(self.chunks, 4))
         self.box = ti.ndarray(ti.i32, shape=4)  # zeros: an empty box
-        self.col_mask = ti.ndarray(ti.i32, shape=self.shape[0])  # bit c: chunk c's box spans column i
+        # per column i: bit c set if chunk c's box spans it, and the lowest and highest such c
+        self.col_mask = ti.ndarray(ti.i32, shape=(self.shape[0], 3))
 
     def node_positions(self) -> np.ndarray:
         """(nx, nz, 2) node coordinates, m."""
@@ -67,7 +68,7 @@ def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
 
 @ti.kernel
 def grid_update(
-    m_parts: ti.types.ndarray(), p_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
+    mp_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
     box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
     v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
     kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float),
@@ -76,10 +77,11 @@ def grid_update(
 
     Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
     are visited, and of the P2G copies only those whose chunk's box holds the node (``col_mask``:
-    a bit per chunk whose box spans the column): elsewhere m and the copies are already zero.
+    a bit per chunk whose box spans the column, and the lowest and highest such chunk):
+    elsewhere m and the copies are already zero.
     The copies are zeroed as they are read, ready for the next step; ``box`` becomes this step's box.
     """
-    nc = m_parts.shape[0]
+    nc = mp_parts.shape[0]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
     b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
     ti.loop_config(serialize=True)  # a reduction into b0-b3
@@ -91,11 +93,13 @@ def grid_update(
     u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for i in range(u0, u1):
-        mask = 0
+        mask, c_lo, c_hi = 0, nc, -1
         for c in range(nc):
             if box_parts[c, 0] <= i < box_parts[c, 1]:
                 mask |= 1 << c
-        col_mask[i] = mask
+                c_lo = ti.min(c_lo, c)
+                c_hi = c
+        col_mask[i, 0], col_mask[i, 1], col_mask[i, 2] = mask, c_lo, c_hi
     nj = ti.max(u3 - u2, 0)
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
@@ -103,13 +107,13 @@ def grid_update(
         j = u2 + q % nj
         mi = 0.0
         pi = ti.Vector([0.0, 0.0])
-        mask = col_mask[i]
-        for c in range(nc):  # the copies whose chunk touched this node, in chunk order
+        mask = col_mask[i, 0]
+        for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
             if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
-                mi += m_parts[c, i, j]
-                pi += p_parts[c, i, j]
-                m_parts[c, i, j] = 0.0
-                p_parts[c, i, j] = ti.Vector([0.0, 0.0])
+                q3 = mp_parts[c, i, j]
+                pi += ti.Vector([q3[0], q3[1]])
+                mi += q3[2]
+                mp_parts[c, i, j] = ti.Vector([0.0, 0.0, 0.0])
         m[i, j] = mi
         vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:

@@ -100,7 +100,7 @@ class Solver:
         g, p, dt = self.grid, self.particles, self.dt
         p2g(p, g, dt)  # 1. P2G (the grid update leaves the P2G copies zeroed)
         grid_update(  # 2. momentum + gravity, walls
-            g.m_parts, g.p_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
+            g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
             g.size[0], self.walls.kinds, self.walls.mus,
         )
         for obstacle, ocfg in zip(self.obstacles, self.cfg.obstacles):  # static bodies
