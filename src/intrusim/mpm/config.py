@@ -206,6 +206,11 @@ class BackendConfig(_Model):
         "order independent of the thread count; more chunks than threads balance the load, and "
         "the grid update sums each copy only over its chunk's box); GPU uses atomics instead",
     )
+    step_graph: bool = Field(
+        True,
+        description="launch the kernels of a step as one compiled Taichi graph (arguments bound "
+        "in C++: ~0.1 ms instead of ~0.7 ms of Python per step); False: one call per kernel",
+    )
 
 
 class MPMConfig(_Model):

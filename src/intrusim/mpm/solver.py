@@ -23,7 +23,8 @@ from .diagnostics import (
 from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import Particles
-from .transfer import g2p_kernel, p2g
+from .step_graph import Launch, StepGraph, run_direct
+from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 
 STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -81,6 +82,7 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._g2p = g2p_kernel(self.material.taichi_update)
+        self._graphs: dict[tuple[bool, ...], StepGraph] = {}  # by the obstacles still in place
         self._scratch = make_scratch()
         self.step_count = 0
         self.rows: list[dict] = []
@@ -95,23 +97,45 @@ class Solver:
         """Physical time, s (step_count * dt, so a restart lands on the same times)."""
         return self.step_count * self.dt
 
-    def step(self) -> None:
-        """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies)."""
+    def _launches(self, active: tuple[bool, ...]) -> list[Launch]:
+        """The kernels of one step in order (SPEC 1 recipe, steps 1-6), for these obstacles."""
         g, p, dt = self.grid, self.particles, self.dt
-        p2g(p, g, dt)  # 1. P2G (the grid update leaves the P2G copies zeroed)
-        grid_update(  # 2. momentum + gravity, walls
-            g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
-            g.size[0], self.walls.kinds, self.walls.mus,
-        )
-        for obstacle, ocfg in zip(self.obstacles, self.cfg.obstacles):  # static bodies
-            if ocfg.removal_time is None or self.t < ocfg.removal_time:
-                obstacle.apply(g, STATIC_POSE, dt)
-        for body in self.intruders:  # 3. rigid intruders (Coulomb, no tension)
-            body.contact.apply(g, body.state.pose(), dt)
-        self._g2p(  # 4-6. G2P, density, stress
+        launches = [
+            Launch(p2g_kernel(g.chunks > 1), p2g_args(p, g, dt)),  # 1. P2G (copies left zeroed by 2.)
+            Launch(grid_update, (  # 2. momentum + gravity, walls
+                g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
+                g.size[0], self.walls.kinds, self.walls.mus,
+            )),
+        ]
+        launches += [o.launch(g, dt, f"o{k}_") for k, (o, a) in enumerate(zip(self.obstacles, active)) if a]
+        launches += [b.contact.launch(g, dt, f"b{k}_") for k, b in enumerate(self.intruders)]  # 3. bodies
+        launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params,
-        )
+        )))
+        return launches
+
+    def step(self) -> None:
+        """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies).
+
+        The kernels run as one compiled Taichi graph (``backend.step_graph``, see step_graph)
+        or one call each; both give the same numbers.
+        """
+        g = self.grid
+        active = tuple(o.removal_time is None or self.t < o.removal_time for o in self.cfg.obstacles)
+        values: dict = {}
+        for k, (obstacle, a) in enumerate(zip(self.obstacles, active)):  # static bodies
+            if a:
+                values.update(obstacle.launch_values(g, STATIC_POSE, f"o{k}_"))
+        for k, body in enumerate(self.intruders):  # rigid intruders (Coulomb, no tension)
+            values.update(body.contact.launch_values(g, body.state.pose(), f"b{k}_"))
+        if self.cfg.backend.step_graph:
+            graph = self._graphs.get(active)
+            if graph is None:
+                graph = self._graphs[active] = StepGraph(self._launches(active), values)
+            graph.run(values)
+        else:
+            run_direct(self._launches(active), values)
         self.step_count += 1
         self._advance_bodies()
 
@@ -252,7 +276,7 @@ class Solver:
         for k, body in enumerate(self.intruders):
             for name, val in meta["bodies"][k].items():
                 setattr(body.state, name, val)
-            body.contact.impulse.from_numpy(np.asarray(meta["impulse"][k], dtype=np.float64))
+            body.contact.write_impulse(meta["impulse"][k])
             self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
 

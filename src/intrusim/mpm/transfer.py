@@ -57,49 +57,67 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
-@ti.kernel
-def p2g_kernel(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gmp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int,
-    dt: float, chunked: ti.template(),
-):
-    """P2G into the grid copies ``gmp`` (momentum, mass); ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
+def p2g_kernel(chunked: bool):
+    """The P2G kernel, chunked (CPU) or atomic (GPU): one compiled kernel each.
 
-    ``chunked`` (CPU): one private copy per chunk of points, no atomics, fixed summation order.
-    Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the
-    few chunks would run on one thread: the outer loop has CHUNK_SPREAD iterations per chunk, and
-    only the first of them scatters that chunk's points, serially in point order. The tasks spread
-    over the threads and each copy's sums do not depend on the scheduling. Otherwise (GPU): one
-    copy and atomic adds, and the box is the whole grid.
+    A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
+    ``ti.graph`` (see step_graph), which takes no template parameters.
     """
-    if ti.static(chunked):
-        n = x.shape[0]
-        nc = gmp.shape[0]
-        ti.loop_config(serialize=backend.SERIAL_LOOPS)
-        for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
-            if q % CHUNK_SPREAD == 0:
-                c = q // CHUNK_SPREAD
-                lo = ti.Vector([gmp.shape[1], gmp.shape[2]])
-                hi = ti.Vector([0, 0])
-                for p in range(c * n // nc, (c + 1) * n // nc):
-                    base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, h, pad, dt, False)
-                    lo = ti.min(lo, base)
-                    hi = ti.max(hi, base + 3)
-                box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
-    else:
-        # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
-        box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, gmp.shape[1], 0, gmp.shape[2]
-        ti.loop_config(serialize=backend.SERIAL_LOOPS)
-        for p in range(x.shape[0]):
-            scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, h, pad, dt, True)
+    return _P2G_KERNELS[bool(chunked)]
+
+
+def _make_p2g_kernel(chunked: bool):
+    @ti.kernel
+    def p2g_scatter(
+        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+        gmp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int, dt: float,
+    ):
+        """P2G into the grid copies ``gmp`` (momentum, mass); ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
+
+        Chunked (CPU): one private copy per chunk of points, no atomics, fixed summation order.
+        Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the
+        few chunks would run on one thread: the outer loop has CHUNK_SPREAD iterations per chunk, and
+        only the first of them scatters that chunk's points, serially in point order. The tasks spread
+        over the threads and each copy's sums do not depend on the scheduling. Otherwise (GPU): one
+        copy and atomic adds, and the box is the whole grid.
+        """
+        if ti.static(chunked):
+            n = x.shape[0]
+            nc = gmp.shape[0]
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
+                if q % CHUNK_SPREAD == 0:
+                    c = q // CHUNK_SPREAD
+                    lo = ti.Vector([gmp.shape[1], gmp.shape[2]])
+                    hi = ti.Vector([0, 0])
+                    for p in range(c * n // nc, (c + 1) * n // nc):
+                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, h, pad, dt, False)
+                        lo = ti.min(lo, base)
+                        hi = ti.max(hi, base + 3)
+                    box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
+        else:
+            # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
+            box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, gmp.shape[1], 0, gmp.shape[2]
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for p in range(x.shape[0]):
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, h, pad, dt, True)
+
+    return p2g_scatter
+
+
+_P2G_KERNELS = {flag: _make_p2g_kernel(flag) for flag in (False, True)}
+
+
+def p2g_args(particles, grid, dt: float) -> tuple:
+    """Arguments of :func:`p2g_kernel` for these particles and grid."""
+    p = particles
+    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, grid.h, grid.pad, dt)
 
 
 def p2g(particles, grid, dt: float) -> None:
     """Particle-to-grid transfer into ``grid.mp_parts`` (summed by the grid update)."""
-    p = particles
-    p2g_kernel(p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts,
-               grid.h, grid.pad, dt, grid.chunks > 1)
+    p2g_kernel(grid.chunks > 1)(*p2g_args(particles, grid, dt))
 
 
 @ti.func
