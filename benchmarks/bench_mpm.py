@@ -4,7 +4,9 @@ For a resting bed of ~64k and ~160k material points (quadratic B-splines, APIC, 
 with separation, walls) it prints, all measured in the same run:
 
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
-* the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64) and the ratio,
+* the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
+* the same step with the kernels called one by one instead of as one compiled graph, and with
+  P2G by atomics into one grid copy,
 * a memory-bandwidth bound: the bytes one step must move at least (particle state read by P2G
   and G2P and written back by G2P, grid arrays written and read once) divided by the copy
   bandwidth of this machine (the faster of a Taichi copy kernel on the same threads and memcpy),
@@ -82,14 +84,14 @@ def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
     return 2 * n * 4 / best
 
 
-def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None):
+def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
     cfg = MPMConfig(
         domain=DomainConfig(size=domain, cells=cells),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
-        backend=dict(arch=arch) if p2g_chunks is None else dict(arch=arch, p2g_chunks=p2g_chunks),
+        backend=dict(arch=arch, step_graph=step_graph, **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
     )
     return Solver(cfg)
 
@@ -119,7 +121,7 @@ def time_steps(solver, min_time: float = 2.0) -> float:
     return best
 
 
-def time_numpy_step(solver, rounds: int = 2) -> float:
+def time_numpy_step(solver, rounds: int = 4) -> float:
     """Seconds per step of the vectorised NumPy reference on the solver's current state."""
     from intrusim.mpm.reference_numpy import numpy_step
 
@@ -183,6 +185,10 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool) -> dict:
         atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
         row["atomic_p2g_ms_per_step"] = time_steps(atomic) * 1e3
         del atomic
+        # the same step with one Python call per kernel instead of one compiled graph
+        direct = bed_solver(domain, cells, bed, arch, step_graph=False)
+        row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
+        del direct
     if wheel:
         out["wheel"] = wheel_seconds_per_physical_second(arch)
     return out
@@ -223,6 +229,10 @@ def main() -> None:
         for label, c in r["cases"].items():
             print(f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, "
                   f"not bit-reproducible) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} deterministic")
+    for r in results:
+        for label, c in r["cases"].items():
+            print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
+                  f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph")
     for r in results:
         print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
               f"memcpy {r['memcpy_GBs']:.1f} GB/s (bytes read + written per second)")
