@@ -15,7 +15,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .step_graph import Launch, Var, run_direct
+from .step_graph import Launch, Var
 
 if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
     from .grid import Grid
@@ -165,10 +165,6 @@ class PolygonContact:
         box = grid.index_box((pose.x, pose.z), self.radius + self.band + grid.h)
         values = (*box, pose.x, pose.z, pose.theta, pose.vx, pose.vz, pose.omega)
         return {prefix + name: val for name, val in zip(self.POSE_VARS, values)}
-
-    def apply(self, grid: "Grid", pose: BodyPose, dt: float) -> None:
-        """Project the grid velocities near the body; accumulates the impulse on the body."""
-        run_direct([self.launch(grid, dt, "")], self.launch_values(grid, pose, ""))
 
     def read_impulse(self) -> np.ndarray:
         """Cumulative impulse on the body (Jx, Jz per unit width N s/m; angular N s)."""

@@ -82,7 +82,10 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._g2p = g2p_kernel(self.material.taichi_update)
-        self._graphs: dict[tuple[bool, ...], StepGraph] = {}  # by the obstacles still in place
+        # by the obstacles still in place: the step's launches, the obstacles' (constant) box
+        # and pose values, and its graph once compiled
+        self._plans: dict[tuple[bool, ...], tuple[list[Launch], dict]] = {}
+        self._graphs: dict[tuple[bool, ...], StepGraph] = {}
         self._scratch = make_scratch()
         self.step_count = 0
         self.rows: list[dict] = []
@@ -123,19 +126,24 @@ class Solver:
         """
         g = self.grid
         active = tuple(o.removal_time is None or self.t < o.removal_time for o in self.cfg.obstacles)
-        values: dict = {}
-        for k, (obstacle, a) in enumerate(zip(self.obstacles, active)):  # static bodies
-            if a:
-                values.update(obstacle.launch_values(g, STATIC_POSE, f"o{k}_"))
+        plan = self._plans.get(active)
+        if plan is None:
+            static: dict = {}
+            for k, (obstacle, a) in enumerate(zip(self.obstacles, active)):  # static bodies
+                if a:
+                    static.update(obstacle.launch_values(g, STATIC_POSE, f"o{k}_"))
+            plan = self._plans[active] = (self._launches(active), static)
+        launches, static = plan
+        values = dict(static)
         for k, body in enumerate(self.intruders):  # rigid intruders (Coulomb, no tension)
             values.update(body.contact.launch_values(g, body.state.pose(), f"b{k}_"))
         if self.cfg.backend.step_graph:
             graph = self._graphs.get(active)
             if graph is None:
-                graph = self._graphs[active] = StepGraph(self._launches(active), values)
+                graph = self._graphs[active] = StepGraph(launches, values)
             graph.run(values)
         else:
-            run_direct(self._launches(active), values)
+            run_direct(launches, values)
         self.step_count += 1
         self._advance_bodies()
 

@@ -56,7 +56,7 @@ class StepGraph:
 
     def __init__(self, launches: Sequence[Launch], values: dict[str, Any]):
         self._symbols: dict[str, Any] = {}
-        self.bound: dict[str, Any] = {}
+        self._values: dict[str, Any] = {}  # the constants, then each run's Var values
         builder = ti.graph.GraphBuilder()
         for k, launch in enumerate(launches):
             params = launch.kernel._primal.arguments
@@ -73,11 +73,10 @@ class StepGraph:
                 if name not in self._symbols:
                     self._symbols[name] = _symbol(name, param.annotation, value)
                     if not isinstance(arg, Var):
-                        self.bound[name] = _runtime_value(param.annotation, value)
+                        self._values[name] = _runtime_value(param.annotation, value)
                 symbols.append(self._symbols[name])
             builder.dispatch(launch.kernel, *symbols)
         self._graph = builder.compile()
-        self._values = dict(self.bound)
 
     def run(self, values: dict[str, Any]) -> None:
         """Launch the step with this step's ``Var`` values (names as given at construction)."""
@@ -88,8 +87,7 @@ class StepGraph:
 def _symbol(name: str, annotation, value):
     """The graph argument for a kernel parameter (its annotation) bound to ``value``."""
     kind = ti.graph.ArgKind
-    if isinstance(annotation, MatrixType) and annotation.dtype is float:
-        annotation = _concrete(annotation)
+    annotation = _concrete(annotation)
     if isinstance(value, Ndarray):
         shape = tuple(getattr(value, "element_shape", ()) or ())
         dtype = value.dtype
@@ -107,8 +105,10 @@ def _symbol(name: str, annotation, value):
     return ti.graph.Arg(kind.SCALAR, name, annotation)
 
 
-def _concrete(annotation: MatrixType) -> MatrixType:
-    """A vector/matrix type annotated with Python ``float`` as the backend's real type."""
+def _concrete(annotation):
+    """A vector/matrix annotation with Python ``float`` elements as the backend's real type."""
+    if not isinstance(annotation, MatrixType) or annotation.dtype is not float:
+        return annotation
     if annotation.ndim == 1:
         return ti.types.vector(annotation.n, info().real)
     return ti.types.matrix(annotation.n, annotation.m, info().real)
@@ -117,6 +117,5 @@ def _concrete(annotation: MatrixType) -> MatrixType:
 def _runtime_value(annotation, value):
     """A constant argument as ``Graph.run`` takes it (vectors as ti.Matrix)."""
     if isinstance(annotation, MatrixType) and not isinstance(value, Matrix):
-        dtype = info().real if annotation.dtype is float else annotation.dtype
-        return Matrix(list(value), dt=dtype)
+        return Matrix(list(value), dt=_concrete(annotation).dtype)
     return value

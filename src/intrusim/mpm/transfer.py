@@ -115,10 +115,6 @@ def p2g_args(particles, grid, dt: float) -> tuple:
     return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, grid.h, grid.pad, dt)
 
 
-def p2g(particles, grid, dt: float) -> None:
-    """Particle-to-grid transfer into ``grid.mp_parts`` (summed by the grid update)."""
-    p2g_kernel(grid.chunks > 1)(*p2g_args(particles, grid, dt))
-
 
 @ti.func
 def g2p_point(x, gv: ti.template(), h, pad):
