@@ -14,9 +14,10 @@ ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 ap.add_argument("rpm", type=float, nargs="?", default=30.0)
 ap.add_argument("--small", action="store_true", help="the half-size wheel of Fig S1")
 ap.add_argument("--threads", type=int, default=2, help="Taichi CPU threads")
+ap.add_argument("--t-max", type=float, default=2.0, help="physical time to run (s)")
 args = ap.parse_args()
 scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
-settings = paper_settings("wheel").model_copy(update=dict(cells=(400, 400), t_max=2.0, cpu_threads=args.threads))
+settings = paper_settings("wheel").model_copy(update=dict(cells=(400, 400), t_max=args.t_max, cpu_threads=args.threads))
 name = "small_grousered_wheel" if args.small else "grousered_wheel"
 out = f"runs/mpm-2p5/{name}_{args.rpm:g}rpm"
 st = run_mpm_steady(scenario, settings, args.rpm, out,

@@ -14,7 +14,7 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
-          cell_size: float | None = None):
+          cell_size: float | None = None, contact_band: float | None = None):
     from intrusim.scenarios import LOCOMOTORS
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -28,6 +28,10 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
             raise InputError(f"cell_size must be > 0 m, got {cell_size!r}")
         cells = tuple(max(1, round(d / cell_size)) for d in settings.domain)
         settings = settings.model_copy(update=dict(cells=cells))
+    if contact_band is not None:
+        if not contact_band >= 0:
+            raise InputError(f"contact_band must be >= 0 cells, got {contact_band!r}")
+        settings = settings.model_copy(update=dict(contact_band_cells=float(contact_band)))
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
@@ -46,10 +50,11 @@ def steady(
     out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
+    contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, None, cell_size)
+        case = _case(scenario, quick, out, frames_every, None, cell_size, contact_band)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -86,6 +91,7 @@ def sweep(
     serial: bool = typer.Option(False, help="Run the points one after another in this process."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
+    contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -94,7 +100,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

@@ -49,3 +49,14 @@ def test_bad_config_fails_before_compute_with_the_field_named(tmp_path):
     assert r.exit_code == 2 and "no such file" in r.output
     r = runner.invoke(app, ["mpm", "resume", str(tmp_path)])
     assert r.exit_code == 2 and "not a run folder" in r.output
+
+
+def test_contact_band_reaches_the_solver_config_and_a_negative_one_is_refused():
+    from intrusim.cli_mpm import _case
+    from intrusim.scenarios.mpm_locomotion import mpm_config
+
+    case = _case("wheel", True, None, None, None, contact_band=0.5)
+    assert mpm_config(case.scenario, case.mpm, 30.0).contact_band_cells == 0.5
+    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).contact_band_cells == 1.0
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--contact-band", "-1"])
+    assert r.exit_code == 2 and "contact_band must be >= 0" in r.output

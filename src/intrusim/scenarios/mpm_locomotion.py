@@ -54,6 +54,8 @@ class MPMSettings(Config):
     t_max : s, longest run; wall_margin : m, stop when the body's front is this close to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
     cfl : C of dt = C h sqrt(rho_c / E).
+    contact_band_cells : grid nodes closer than this many cells outside the body are in contact
+        (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
     arch, precision, cpu_threads : Taichi backend.
     keep_fields : particle snapshots saved to the run folder (last ones of the window).
     frames_every : s, interval of the movie frames (positions, speed, plastic strain rate) saved
@@ -77,6 +79,7 @@ class MPMSettings(Config):
     wall_margin: float = Field(0.08, ge=0.0)
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
+    contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
     cpu_threads: int | None = Field(None, ge=1)
@@ -187,6 +190,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
             ),
         )],
         gravity=(0.0, -scenario.gravity),
+        contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5),
         backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),
