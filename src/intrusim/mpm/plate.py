@@ -43,6 +43,7 @@ class PlateDragCase:
     mu_w: float = 0.35  # plate-grain friction (not given for Fig 6; the wheel value)
     youngs_modulus: float = 1.0e6  # Pa
     ramp_fraction: float = 0.25  # ramp time = ramp_fraction * plate_length / speed
+    contact_band_cells: float = 1.0  # nodes this close outside the plate are in contact (docs/mpm.md)
 
     def config(self, directory: str | None = None, **backend) -> MPMConfig:
         t_end = self.travel / self.speed
@@ -58,6 +59,7 @@ class PlateDragCase:
                 motion=PrescribedMotion(vx=self.speed,
                                         ramp_time=self.ramp_fraction * self.plate_length / self.speed),
             )],
+            contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, v_max_expected=max(self.speed, 0.5)),
             output=OutputConfig(directory=directory, record_every=t_end / 100),
             backend=backend or {},

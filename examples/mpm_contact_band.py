@@ -1,0 +1,162 @@
+"""Cell size and contact band of the MPM wheel and plate (docs/mpm.md, "The contact band").
+
+Grid contact puts every node closer than `band` cells outside the body in contact, so on the grid
+the body acts about that much larger. This script runs the Table S1 wheel at a chosen cell size
+and band, tabulates finished wheel runs over one common window, and fits the Fig 6 plate-drag
+law with a chosen band.
+
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 5 --band 0      # ~6 min, one thread
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0    # ~35 min, one thread
+    python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
+    python examples/mpm_contact_band.py plate --band 0                     # 15 runs, ~11 min
+    python examples/mpm_contact_band.py plate --band 0 --cell-mm 5         # ~2 min
+
+`table` reads every run folder under the given folders (their locomotion.json gives cell size and
+band), averages v and sinkage over t = 0.65 s to --t-cut (default 2 s, the shortest runs' end),
+prints a Markdown table and writes docs/figures/wheel_resolution.{png,csv}.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+
+from intrusim.geometry import signed_area
+from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
+from intrusim.scenarios.mpm_locomotion import (
+    SERIES_KEYS, MPMSettings, paper_settings, run_mpm_steady, steady_from_series, write_result,
+)  # fmt: skip
+
+
+def run(args: argparse.Namespace) -> None:
+    scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
+    n = round(1.0 / (args.cell_mm * 1e-3))
+    settings = paper_settings("wheel").model_copy(update=dict(
+        cells=(n, n), t_max=args.t_max, cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
+    out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
+    st = run_mpm_steady(scenario, settings, args.rpm, out,
+                        lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
+    write_result(out, st)
+    print(json.dumps({k: round(v, 5) for k, v in st.summary().items()}))
+
+
+def plate(args: argparse.Namespace) -> None:
+    from intrusim.analysis.plates import fit_drag_law
+    from intrusim.figures_mpm_plates import DRAG_DEPTHS, DRAG_SPEEDS, PAPER_DRAG, drag_case
+    from intrusim.mpm.plate import steady_force
+    from intrusim.mpm.solver import Solver
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    pts = []
+    for d in DRAG_DEPTHS:
+        for v in DRAG_SPEEDS:
+            case = drag_case(d, v, False)
+            cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in case.domain)
+            case = dataclasses.replace(case, contact_band_cells=args.band, cells=cells)
+            pts.append({"depth_m": d, "speed_m_s": v, "force_N_per_m": -steady_force(Solver(case.config()).run(), "fx")})
+            print(json.dumps(pts[-1]), flush=True)
+    d, v, f = (np.array([p[k] for p in pts]) for k in ("depth_m", "speed_m_s", "force_N_per_m"))
+    K, lam = fit_drag_law(d, v, f, PAPER_DRAG["rho"], PAPER_DRAG["length"])
+    slow = v == v.min()
+    K_slow = float(np.sum(f[slow] * d[slow]) / np.sum(d[slow] ** 2))  # F = K |z| through the origin
+    res = {"band_cells": args.band, "K_N_per_m": K, "lambda": lam, "K_slowest_N_per_m": K_slow, "points": pts}
+    res["cell_mm"] = args.cell_mm
+    (out / f"plate_drag_{args.cell_mm:g}mm_band{args.band:g}.json").write_text(json.dumps(res, indent=1))
+    print(f"band {args.band:g}: K = {K:.0f} N/m, lambda = {lam:.2f}, K from the slowest runs = {K_slow:.0f} N/m (paper 580, 1.1)")
+
+
+def window_row(run_dir: Path, t_cut: float) -> dict[str, float | str] | None:
+    """Steady state of one finished run over t = ramp + settle .. t_cut (None if not a wheel run)."""
+    info_path, res_path = run_dir / "locomotion.json", run_dir / "result.json"
+    if not (info_path.exists() and res_path.exists()):
+        return None
+    info = json.loads(info_path.read_text())
+    if info["body"] != "wheel":
+        return None
+    s = MPMSettings.model_validate(info["settings"])
+    cfg = json.loads((run_dir / "config.json").read_text())["config"]
+    with (run_dir / "timeseries.csv").open() as f:
+        rows = [r for r in csv.DictReader(f) if float(r["time"]) <= t_cut + 1e-9]
+    series = {k: np.array([float(r[k]) for r in rows]) for k in SERIES_KEYS}
+    outline = np.asarray(cfg["intruders"][0]["vertices"], float)
+    if signed_area(outline) < 0:
+        outline = outline[::-1]
+    st = steady_from_series(series, outline, s.bed_depth, s.ramp_time + s.settle_time, False, [])
+    res = json.loads(res_path.read_text())
+    rpm = st.omega * 60 / (2 * np.pi)
+    return {
+        "wheel": "small" if st.radius < 0.08 else "large", "omega_rpm": round(rpm, 3), "cell_mm": 1e3 * s.h,
+        "band_cells": s.contact_band_cells, "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip,
+        "drift": st.drift, "surface_drop_run": res.get("surface_drop", np.nan), "window_end": st.window[1],
+        "run": str(run_dir),
+    }  # fmt: skip
+
+
+def table(args: argparse.Namespace) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [r for d in args.folders for p in sorted(Path(d).iterdir()) if p.is_dir() and (r := window_row(p, args.t_cut))]
+    rows = [r for r in rows if r["wheel"] == "large" and r["omega_rpm"] in args.rpm]
+    rows.sort(key=lambda r: (r["omega_rpm"], r["band_cells"], -r["cell_mm"]))
+    print("| RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
+              f"{r['slip']:.3f} | {r['drift']:.2f} | {r['surface_drop_run'] * 1e3:.1f} |")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    with (out / "wheel_resolution.csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    fig, axes = plt.subplots(1, 2, figsize=(8.4, 3.6))
+    colors = plt.cm.viridis(np.linspace(0, 0.9, len(args.rpm)))
+    for rpm, color in zip(sorted(args.rpm), colors):
+        for cell, marker, fill in ((5.0, "o", color), (2.5, "s", "none")):
+            sel = sorted((r for r in rows if r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
+                         key=lambda r: r["band_cells"])
+            if not sel:
+                continue
+            b = [r["band_cells"] * r["cell_mm"] for r in sel]  # physical band width, mm
+            kw = dict(marker=marker, mfc=fill, color=color, ls="-" if cell == 5.0 else "--")
+            axes[0].plot(b, [r["velocity"] for r in sel], label=f"{rpm:g} RPM, {cell:g} mm cells", **kw)
+            axes[1].plot(b, [r["sinkage"] * 1e3 for r in sel], **kw)
+    for ax, lab in zip(axes, ("v (m/s)", "sinkage (mm)")):
+        ax.set(xlabel="contact band width = band x cell (mm)", ylabel=lab, xlim=(-0.3, 5.3))
+    axes[0].legend(fontsize=6, ncol=2)
+    fig.suptitle(f"Table S1 wheel: cell size and contact band (window 0.65-{args.t_cut:g} s)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out / "wheel_resolution.png", dpi=120)
+    print(f"wrote {out / 'wheel_resolution.png'} and .csv")
+
+
+ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+sub = ap.add_subparsers(dest="cmd", required=True)
+r = sub.add_parser("wheel", help="one wheel run")
+r.add_argument("rpm", type=float)
+r.add_argument("--cell-mm", type=float, default=5.0)
+r.add_argument("--band", type=float, default=1.0, help="contact band, cells")
+r.add_argument("--t-max", type=float, default=2.0)
+r.add_argument("--threads", type=int, default=1)
+r.add_argument("--small", action="store_true", help="the half-size wheel of Fig S1")
+r.add_argument("--out", default="runs/resolution")
+t = sub.add_parser("table", help="tabulate finished runs")
+t.add_argument("folders", nargs="+")
+t.add_argument("--t-cut", type=float, default=2.0)
+t.add_argument("--rpm", type=float, nargs="+", default=[30.0, 90.0])
+t.add_argument("--out", default="docs/figures")
+p = sub.add_parser("plate", help="the Fig 6 plate-drag fit (2.5 mm cells) with a given band")
+p.add_argument("--band", type=float, default=1.0, help="contact band, cells")
+p.add_argument("--cell-mm", type=float, default=2.5, help="cell size, mm (Fig 6 runs: 2.5)")
+p.add_argument("--out", default="runs/band")
+args = ap.parse_args()
+{"wheel": run, "table": table, "plate": plate}[args.cmd](args)
