@@ -26,11 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from intrusim.geometry import signed_area
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
-from intrusim.scenarios.mpm_locomotion import (
-    SERIES_KEYS, MPMSettings, paper_settings, run_mpm_steady, steady_from_series, write_result,
-)  # fmt: skip
+from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_mpm_steady, summarise_run, write_result
 
 
 def run(args: argparse.Namespace) -> None:
@@ -80,14 +77,7 @@ def window_row(run_dir: Path, t_cut: float) -> dict[str, float | str] | None:
     if info["body"] != "wheel":
         return None
     s = MPMSettings.model_validate(info["settings"])
-    cfg = json.loads((run_dir / "config.json").read_text())["config"]
-    with (run_dir / "timeseries.csv").open() as f:
-        rows = [r for r in csv.DictReader(f) if float(r["time"]) <= t_cut + 1e-9]
-    series = {k: np.array([float(r[k]) for r in rows]) for k in SERIES_KEYS}
-    outline = np.asarray(cfg["intruders"][0]["vertices"], float)
-    if signed_area(outline) < 0:
-        outline = outline[::-1]
-    st = steady_from_series(series, outline, s.bed_depth, s.ramp_time + s.settle_time, False, [])
+    st = summarise_run(run_dir, t_end=t_cut)
     res = json.loads(res_path.read_text())
     rpm = st.omega * 60 / (2 * np.pi)
     return {

@@ -115,7 +115,6 @@ def p2g_args(particles, grid, dt: float) -> tuple:
     return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, grid.h, grid.pad, dt)
 
 
-
 @ti.func
 def g2p_point(x, gv: ti.template(), h, pad):
     """v_p = sum w v_i ;  C_p = (4/h^2) sum w v_i (x_i - x_p)^T  for the point at x.

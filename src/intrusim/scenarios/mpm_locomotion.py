@@ -339,12 +339,15 @@ def fields_drop(path: str | Path, bed_depth: float, rho_c: float, gravity: float
     return float(d["t"]), dh
 
 
-def summarise_run(run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel") -> MPMSteadyState:
+def summarise_run(
+    run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel", t_end: float | None = None
+) -> MPMSteadyState:
     """Recompute the steady state of a finished (or interrupted) run folder.
 
     Reads ``timeseries.csv`` and ``config.json`` (written by the solver), the settings from
     ``locomotion.json`` when present (else ``settings`` or :func:`paper_settings` of ``body``), and
-    the rear surface drop from the saved ``fields_*.npz`` snapshots.
+    the rear surface drop from the saved ``fields_*.npz`` snapshots. ``t_end``: average only up to
+    this time (one window for runs of different lengths).
     """
     import csv
     import json
@@ -360,7 +363,7 @@ def summarise_run(run_dir: str | Path, settings: MPMSettings | None = None, body
     settings = settings or paper_settings(body)
     cfg = json.loads((run_dir / "config.json").read_text())["config"]
     with ts.open() as f:
-        rows = list(csv.DictReader(f))
+        rows = [r for r in csv.DictReader(f) if t_end is None or float(r["time"]) <= t_end + 1e-9]
     series = {k: np.array([float(r[k]) for r in rows]) for k in SERIES_KEYS}
     outline = np.asarray(cfg["intruders"][0]["vertices"], float)
     if signed_area(outline) < 0:
