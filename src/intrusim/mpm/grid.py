@@ -28,8 +28,9 @@ class Grid:
         if not 1 <= self.chunks <= 31:
             raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
-        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target
-        self.mp_parts = ti.Vector.ndarray(3, real, shape=(self.chunks, *self.shape))  # kg/s, kg/m
+        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, flat:
+        # node (i, j) of copy c at 3 ((c nx + i) nz + j) (transfer.scatter_point)
+        self.mp_parts = ti.ndarray(real, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
@@ -81,7 +82,8 @@ def grid_update(
     elsewhere m and the copies are already zero.
     The copies are zeroed as they are read, ready for the next step; ``box`` becomes this step's box.
     """
-    nc = mp_parts.shape[0]
+    nc = box_parts.shape[0]
+    nx, ny = m.shape[0], m.shape[1]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
     b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
     ti.loop_config(serialize=True)  # a reduction into b0-b3
@@ -110,10 +112,10 @@ def grid_update(
         mask = col_mask[i, 0]
         for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
             if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
-                q3 = mp_parts[c, i, j]
-                pi += ti.Vector([q3[0], q3[1]])
-                mi += q3[2]
-                mp_parts[c, i, j] = ti.Vector([0.0, 0.0, 0.0])
+                k = ((c * nx + i) * ny + j) * 3
+                pi += ti.Vector([mp_parts[k], mp_parts[k + 1]])
+                mi += mp_parts[k + 2]
+                mp_parts[k], mp_parts[k + 1], mp_parts[k + 2] = 0.0, 0.0, 0.0
         m[i, j] = mi
         vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:

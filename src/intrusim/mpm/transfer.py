@@ -26,31 +26,37 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
 @ti.func
 def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   mass: ti.template(), vol: ti.template(), sigma: ti.template(),
-                  gmp: ti.template(), h, pad, dt, atomic: ti.template()):
+                  gmp: ti.template(), nx, ny, h, pad, dt, atomic: ti.template()):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
+    ``gmp`` is the flat array of the grid copies: node (i, j) of copy c holds (m v_x, m v_z, m)
+    at 3 ((c nx + i) ny + j); the stencil's first entry is computed once per point and its other
+    nodes are fixed offsets from it (measured ~20 % faster than 3-index addressing, same sums).
     ``atomic``: atomic adds (several threads share grid copy ``c``); otherwise plain
     read-modify-write (one loop iteration owns copy ``c``). Returns the base node of the 3 x 3 stencil.
     """
     inv_h = 1.0 / h
-    base, fx, w = quadratic_weights(x[p], inv_h, pad, gmp.shape[1], gmp.shape[2])
-    affine = mass[p] * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
+    base, fx, w = quadratic_weights(x[p], inv_h, pad, nx, ny)
+    mp = mass[p]
+    affine = mp * C[p] - (dt * vol[p] * 4.0 * inv_h * inv_h) * sigma[p]
     # node (a, b) of the stencil is at x_i - x_p = h ((a, b) - f): its momentum is
     # m_p v_p + affine (x_i - x_p) = q0 + a h affine[:, 0] + b h affine[:, 1]
-    q0 = mass[p] * v[p] - h * (affine @ fx)
+    q0 = mp * v[p] - h * (affine @ fx)
     ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
     cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
+    first = ((c * nx + base[0]) * ny + base[1]) * 3
     for a in ti.static(range(3)):
         qa = q0 + a * ca
         for b in ti.static(range(3)):
             weight = w[a][0] * w[b][1]
-            I = ti.Vector([c, base[0] + a, base[1] + b])
             q = qa + b * cb
-            dq = weight * ti.Vector([q[0], q[1], mass[p]])
-            if ti.static(atomic):
-                gmp[I] += dq
-            else:
-                gmp[I] = gmp[I] + dq
+            k = first + (a * ny + b) * 3
+            dq = ti.Vector([weight * q[0], weight * q[1], weight * mp])
+            for e in ti.static(range(3)):
+                if ti.static(atomic):
+                    ti.atomic_add(gmp[k + e], dq[e])
+                else:
+                    gmp[k + e] = gmp[k + e] + dq[e]
     return base
 
 
@@ -71,9 +77,10 @@ def _make_p2g_kernel(chunked: bool):
     def p2g_scatter(
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-        gmp: ti.types.ndarray(), box: ti.types.ndarray(), h: float, pad: int, dt: float,
+        gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
     ):
-        """P2G into the grid copies ``gmp`` (momentum, mass); ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
+        """P2G into the grid copies ``gmp`` (flat, see scatter_point; a grid of nx x ny nodes);
+        ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
 
         Chunked (CPU): one private copy per chunk of points, no atomics, fixed summation order.
         Taichi's CPU backend runs a range-for of <= 512 iterations as one task, so a loop over the
@@ -84,24 +91,24 @@ def _make_p2g_kernel(chunked: bool):
         """
         if ti.static(chunked):
             n = x.shape[0]
-            nc = gmp.shape[0]
+            nc = box.shape[0]
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
                 if q % CHUNK_SPREAD == 0:
                     c = q // CHUNK_SPREAD
-                    lo = ti.Vector([gmp.shape[1], gmp.shape[2]])
+                    lo = ti.Vector([nx, ny])
                     hi = ti.Vector([0, 0])
                     for p in range(c * n // nc, (c + 1) * n // nc):
-                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, h, pad, dt, False)
+                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, False)
                         lo = ti.min(lo, base)
                         hi = ti.max(hi, base + 3)
                     box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
-            box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, gmp.shape[1], 0, gmp.shape[2]
+            box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(x.shape[0]):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, h, pad, dt, True)
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, True)
 
     return p2g_scatter
 
@@ -112,7 +119,7 @@ _P2G_KERNELS = {flag: _make_p2g_kernel(flag) for flag in (False, True)}
 def p2g_args(particles, grid, dt: float) -> tuple:
     """Arguments of :func:`p2g_kernel` for these particles and grid."""
     p = particles
-    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, grid.h, grid.pad, dt)
+    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt)
 
 
 @ti.func
