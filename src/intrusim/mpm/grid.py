@@ -28,8 +28,8 @@ class Grid:
         if not 1 <= self.chunks <= 31:
             raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
-        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, flat:
-        # node (i, j) of copy c at 3 ((c nx + i) nz + j) (transfer.scatter_point)
+        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, all
+        # copies in one flat array (see copy_record)
         self.mp_parts = ti.ndarray(real, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
@@ -53,6 +53,12 @@ class Grid:
         j0 = max(int(np.floor((cz - radius) / self.h)) + self.pad, 0)
         j1 = min(int(np.ceil((cz + radius) / self.h)) + self.pad + 1, self.shape[1])
         return i0, max(i1, i0), j0, max(j1, j0)
+
+
+@ti.func
+def copy_record(c, i, j, nx, ny):
+    """Index in ``Grid.mp_parts`` of node (i, j)'s record (m v_x, m v_z, m) in P2G copy c (nx x ny nodes)."""
+    return ((c * nx + i) * ny + j) * 3
 
 
 @ti.func
@@ -112,7 +118,7 @@ def grid_update(
         mask = col_mask[i, 0]
         for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
             if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
-                k = ((c * nx + i) * ny + j) * 3
+                k = copy_record(c, i, j, nx, ny)
                 pi += ti.Vector([mp_parts[k], mp_parts[k + 1]])
                 mi += mp_parts[k + 2]
                 mp_parts[k], mp_parts[k + 1], mp_parts[k + 2] = 0.0, 0.0, 0.0
