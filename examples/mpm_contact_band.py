@@ -43,28 +43,19 @@ def run(args: argparse.Namespace) -> None:
 
 
 def plate(args: argparse.Namespace) -> None:
-    from intrusim.analysis.plates import fit_drag_law
-    from intrusim.figures_mpm_plates import DRAG_DEPTHS, DRAG_SPEEDS, PAPER_DRAG, drag_case
-    from intrusim.mpm.plate import steady_force
-    from intrusim.mpm.solver import Solver
+    from intrusim.figures_mpm_plates import drag_fit, drag_points
 
+    def vary(case):
+        cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in case.domain)
+        return dataclasses.replace(case, contact_band_cells=args.band, cells=cells)
+
+    tag = f"{args.cell_mm:g}mm_band{args.band:g}"
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    pts = []
-    for d in DRAG_DEPTHS:
-        for v in DRAG_SPEEDS:
-            case = drag_case(d, v, False)
-            cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in case.domain)
-            case = dataclasses.replace(case, contact_band_cells=args.band, cells=cells)
-            pts.append({"depth_m": d, "speed_m_s": v, "force_N_per_m": -steady_force(Solver(case.config()).run(), "fx")})
-            print(json.dumps(pts[-1]), flush=True)
-    d, v, f = (np.array([p[k] for p in pts]) for k in ("depth_m", "speed_m_s", "force_N_per_m"))
-    K, lam = fit_drag_law(d, v, f, PAPER_DRAG["rho"], PAPER_DRAG["length"])
-    slow = v == v.min()
-    K_slow = float(np.sum(f[slow] * d[slow]) / np.sum(d[slow] ** 2))  # F = K |z| through the origin
-    res = {"band_cells": args.band, "K_N_per_m": K, "lambda": lam, "K_slowest_N_per_m": K_slow, "points": pts}
-    res["cell_mm"] = args.cell_mm
-    (out / f"plate_drag_{args.cell_mm:g}mm_band{args.band:g}.json").write_text(json.dumps(res, indent=1))
+    pts = drag_points(False, out / f"plate_points_{tag}", vary=vary)  # each point cached there
+    K, lam, K_slow = drag_fit(pts)
+    res = {"band_cells": args.band, "K_N_per_m": K, "lambda": lam, "K_slowest_N_per_m": K_slow, "points": pts,
+           "cell_mm": args.cell_mm}  # fmt: skip
+    (out / f"plate_drag_{tag}.json").write_text(json.dumps(res, indent=1))
     print(f"band {args.band:g}: K = {K:.0f} N/m, lambda = {lam:.2f}, K from the slowest runs = {K_slow:.0f} N/m (paper 580, 1.1)")
 
 

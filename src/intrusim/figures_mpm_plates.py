@@ -62,8 +62,12 @@ def drag_case(depth: float, speed: float, quick: bool):
     return PlateDragCase(depth=depth, speed=speed, travel=0.04, cells=(120, 60))
 
 
-def drag_points(quick: bool, runs: Path | None, progress: bool = True) -> list[dict[str, float]]:
-    """Steady drag force per metre of width at every (depth, speed) of Fig 6A."""
+def drag_points(quick: bool, runs: Path | None, progress: bool = True, vary=None) -> list[dict[str, float]]:
+    """Steady drag force per metre of width at every (depth, speed) of Fig 6A.
+
+    ``vary``: optional function applied to each run's :class:`PlateDragCase` (another cell size,
+    contact band ...); give such runs their own ``runs`` folder, where each point is cached.
+    """
     from tqdm import tqdm
 
     from intrusim.mpm.plate import steady_force
@@ -74,6 +78,7 @@ def drag_points(quick: bool, runs: Path | None, progress: bool = True) -> list[d
     out = []
     for d, v in tqdm(grid, desc="MPM plate drag", disable=not progress):
         case = drag_case(d, v, quick)
+        case = case if vary is None else vary(case)
 
         def run() -> dict[str, float]:
             rows = Solver(case.config()).run()
@@ -84,6 +89,15 @@ def drag_points(quick: bool, runs: Path | None, progress: bool = True) -> list[d
     return out
 
 
+def drag_fit(pts: list[dict[str, float]]) -> tuple[float, float, float]:
+    """K (N/m) and lambda of F = K|z| + lambda rho A v^2 over the points of :func:`drag_points`,
+    and K of the slowest runs alone (F = K |z| through the origin)."""
+    d, v, f = (np.array([p[k] for p in pts]) for k in ("depth_m", "speed_m_s", "force_N_per_m"))
+    K, lam = fit_drag_law(d, v, f, PAPER_DRAG["rho"], PAPER_DRAG["length"])
+    slow = v == v.min()
+    return K, lam, float(np.sum(f[slow] * d[slow]) / np.sum(d[slow] ** 2))
+
+
 def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
     """Fig 6A with MPM: drag vs speed at |z| = 20/30/40 mm, and the fit F = K|z| + lambda rho A v^2."""
     from intrusim.figures_mpm import _save
@@ -91,9 +105,7 @@ def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path 
     pts = drag_points(quick, runs)
     d, v, f = (np.array([p[k] for p in pts]) for k in ("depth_m", "speed_m_s", "force_N_per_m"))
     rho, area = PAPER_DRAG["rho"], PAPER_DRAG["length"]
-    K, lam = fit_drag_law(d, v, f, rho, area)
-    slow = v == v.min()
-    K_slow = float(np.sum(f[slow] * d[slow]) / np.sum(d[slow] ** 2))  # F = K |z| through the origin
+    K, lam, K_slow = drag_fit(pts)
     fig, ax = plt.subplots(figsize=(5.2, 3.8))
     vv = np.linspace(0, v.max(), 100)
     rows = []

@@ -91,7 +91,7 @@ def grid_update(
     nc = box_parts.shape[0]
     nx, ny = m.shape[0], m.shape[1]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
-    b0, b1, b2, b3 = m.shape[0], 0, m.shape[1], 0  # this step's box
+    b0, b1, b2, b3 = nx, 0, ny, 0  # this step's box
     ti.loop_config(serialize=True)  # a reduction into b0-b3
     for c in range(nc):
         b0 = ti.min(b0, box_parts[c, 0])
