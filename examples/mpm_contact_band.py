@@ -7,13 +7,22 @@ law with a chosen band.
 
     python examples/mpm_contact_band.py wheel 30 --cell-mm 5 --band 0      # ~6 min, one thread
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0    # ~35 min, one thread
+    python examples/mpm_contact_band.py wheel 90 --cell-mm 2.5 --small     # the Fig S1 wheel, ~32 min
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
+    python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
+    python examples/mpm_contact_band.py sweep --band 0 --out runs/band/grousered_wheel_band0_mpm_sweep.csv
     python examples/mpm_contact_band.py plate --band 0                     # 15 runs, ~11 min
     python examples/mpm_contact_band.py plate --band 0 --cell-mm 5         # ~2 min
 
 `table` reads every run folder under the given folders (their locomotion.json gives cell size and
 band), averages v and sinkage over t = 0.65 s to --t-cut (default 2 s, the shortest runs' end),
-prints a Markdown table and writes docs/figures/wheel_resolution.{png,csv}.
+prints a Markdown table and writes docs/figures/wheel_resolution.{png,csv}. With --merge, the rows
+of an earlier table CSV are kept unless a run folder gives the same wheel, omega, cells and band
+(run folders are not kept in git; the CSV is).
+
+`sweep` turns a table CSV into an MPM sweep CSV (the format of `intrusim mpm sweep`, read by
+`intrusim calibrate --mpm`): for each omega of the large wheel, the row with the given band and the
+finest cells.
 """
 
 from __future__ import annotations
@@ -79,6 +88,34 @@ def window_row(run_dir: Path, t_cut: float) -> dict[str, float | str] | None:
     }  # fmt: skip
 
 
+def _key(row: dict) -> tuple:
+    return row["wheel"], round(float(row["omega_rpm"]), 3), float(row["cell_mm"]), float(row["band_cells"])
+
+
+def read_table(path: str | Path) -> list[dict[str, float | str]]:
+    """Rows of a table CSV (docs/figures/wheel_resolution.csv), numbers as floats."""
+    with Path(path).open(newline="") as f:
+        return [{k: (v if k in ("wheel", "run") else float(v)) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def sweep(args: argparse.Namespace) -> None:
+    from intrusim.analysis.sweep import SweepResult
+
+    best: dict[float, dict] = {}
+    for r in read_table(args.table):
+        if r["wheel"] == "large" and r["band_cells"] == args.band:
+            w = r["omega_rpm"]
+            if w not in best or r["cell_mm"] < best[w]["cell_mm"]:
+                best[w] = r
+    if not best:
+        raise SystemExit(f"{args.table}: no large-wheel row with band {args.band:g}")
+    records = [{"omega_rpm": w, "ok": True, "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
+                "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"]}
+               for w, r in sorted(best.items())]  # fmt: skip
+    out = SweepResult("grousered_wheel", "mpm", None, records).to_csv(args.out)
+    print(f"wrote {out}: " + ", ".join(f"{w:g} RPM ({r['cell_mm']:g} mm)" for w, r in sorted(best.items())))
+
+
 def table(args: argparse.Namespace) -> None:
     import matplotlib
 
@@ -86,6 +123,9 @@ def table(args: argparse.Namespace) -> None:
     import matplotlib.pyplot as plt
 
     rows = [r for d in args.folders for p in sorted(Path(d).iterdir()) if p.is_dir() and (r := window_row(p, args.t_cut))]
+    if args.merge:
+        new = {_key(r) for r in rows}
+        rows += [r for r in read_table(args.merge) if _key(r) not in new]
     rows = [r for r in rows if r["wheel"] == "large" and r["omega_rpm"] in args.rpm]
     rows.sort(key=lambda r: (r["omega_rpm"], r["band_cells"], -r["cell_mm"]))
     print("| RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
@@ -135,9 +175,14 @@ t.add_argument("folders", nargs="+")
 t.add_argument("--t-cut", type=float, default=2.0)
 t.add_argument("--rpm", type=float, nargs="+", default=[30.0, 90.0])
 t.add_argument("--out", default="docs/figures")
+t.add_argument("--merge", help="an earlier table CSV whose rows are kept unless a run folder replaces them")
+w = sub.add_parser("sweep", help="an MPM sweep CSV (for intrusim calibrate) from a table CSV")
+w.add_argument("--table", default="docs/figures/wheel_resolution.csv")
+w.add_argument("--band", type=float, default=0.0, help="contact band, cells")
+w.add_argument("--out", required=True)
 p = sub.add_parser("plate", help="the Fig 6 plate-drag fit (2.5 mm cells) with a given band")
 p.add_argument("--band", type=float, default=1.0, help="contact band, cells")
 p.add_argument("--cell-mm", type=float, default=2.5, help="cell size, mm (Fig 6 runs: 2.5)")
 p.add_argument("--out", default="runs/band")
 args = ap.parse_args()
-{"wheel": run, "table": table, "plate": plate}[args.cmd](args)
+{"wheel": run, "table": table, "plate": plate, "sweep": sweep}[args.cmd](args)
