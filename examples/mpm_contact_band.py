@@ -16,13 +16,14 @@ law with a chosen band.
 
 `table` reads every run folder under the given folders (their locomotion.json gives cell size and
 band), averages v and sinkage over t = 0.65 s to --t-cut (default 2 s, the shortest runs' end),
-prints a Markdown table and writes docs/figures/wheel_resolution.{png,csv}. With --merge, the rows
+prints a Markdown table and writes docs/figures/wheel_resolution.{png,csv} (the CSV has both
+wheels, the figure the Table S1 wheel). With --merge, the rows
 of an earlier table CSV are kept unless a run folder gives the same wheel, omega, cells and band
 (run folders are not kept in git; the CSV is).
 
 `sweep` turns a table CSV into an MPM sweep CSV (the format of `intrusim mpm sweep`, read by
-`intrusim calibrate --mpm`): for each omega of the large wheel, the row with the given band and the
-finest cells.
+`intrusim calibrate --mpm`): for each omega of one wheel, the row with the given band and the finest
+cells.
 """
 
 from __future__ import annotations
@@ -103,16 +104,17 @@ def sweep(args: argparse.Namespace) -> None:
 
     best: dict[float, dict] = {}
     for r in read_table(args.table):
-        if r["wheel"] == "large" and r["band_cells"] == args.band:
+        if r["wheel"] == args.wheel and r["band_cells"] == args.band:
             w = r["omega_rpm"]
             if w not in best or r["cell_mm"] < best[w]["cell_mm"]:
                 best[w] = r
     if not best:
-        raise SystemExit(f"{args.table}: no large-wheel row with band {args.band:g}")
+        raise SystemExit(f"{args.table}: no {args.wheel}-wheel row with band {args.band:g}")
     records = [{"omega_rpm": w, "ok": True, "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
                 "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"]}
                for w, r in sorted(best.items())]  # fmt: skip
-    out = SweepResult("grousered_wheel", "mpm", None, records).to_csv(args.out)
+    name = "small_grousered_wheel" if args.wheel == "small" else "grousered_wheel"
+    out = SweepResult(name, "mpm", None, records).to_csv(args.out)
     print(f"wrote {out}: " + ", ".join(f"{w:g} RPM ({r['cell_mm']:g} mm)" for w, r in sorted(best.items())))
 
 
@@ -126,12 +128,12 @@ def table(args: argparse.Namespace) -> None:
     if args.merge:
         new = {_key(r) for r in rows}
         rows += [r for r in read_table(args.merge) if _key(r) not in new]
-    rows = [r for r in rows if r["wheel"] == "large" and r["omega_rpm"] in args.rpm]
-    rows.sort(key=lambda r: (r["omega_rpm"], r["band_cells"], -r["cell_mm"]))
-    print("| RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
-    print("|---|---|---|---|---|---|---|---|")
+    rows = [r for r in rows if r["omega_rpm"] in args.rpm]
+    rows.sort(key=lambda r: (r["wheel"], r["omega_rpm"], r["band_cells"], -r["cell_mm"]))
+    print("| wheel | RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
+        print(f"| {r['wheel']} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
               f"{r['slip']:.3f} | {r['drift']:.2f} | {r['surface_drop_run'] * 1e3:.1f} |")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -143,7 +145,7 @@ def table(args: argparse.Namespace) -> None:
     colors = plt.cm.viridis(np.linspace(0, 0.9, len(args.rpm)))
     for rpm, color in zip(sorted(args.rpm), colors):
         for cell, marker, fill in ((5.0, "o", color), (2.5, "s", "none")):
-            sel = sorted((r for r in rows if r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
+            sel = sorted((r for r in rows if r["wheel"] == "large" and r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
                          key=lambda r: r["band_cells"])
             if not sel:
                 continue
@@ -179,6 +181,7 @@ t.add_argument("--merge", help="an earlier table CSV whose rows are kept unless 
 w = sub.add_parser("sweep", help="an MPM sweep CSV (for intrusim calibrate) from a table CSV")
 w.add_argument("--table", default="docs/figures/wheel_resolution.csv")
 w.add_argument("--band", type=float, default=0.0, help="contact band, cells")
+w.add_argument("--wheel", choices=("large", "small"), default="large", help="the Table S1 wheel or the half-size one of Fig S1")
 w.add_argument("--out", required=True)
 p = sub.add_parser("plate", help="the Fig 6 plate-drag fit (2.5 mm cells) with a given band")
 p.add_argument("--band", type=float, default=1.0, help="contact band, cells")
