@@ -145,6 +145,7 @@ def reproduce(
     parallel: bool = typer.Option(True, help="Run the omega sweeps on a Dask cluster."),
     mpm: bool = typer.Option(False, help="Add the MPM points to fig5ab, fig7bc, figs1 (long: runs MPM sweeps)."),
     runs: Path = typer.Option(None, help="Folder of MPM run folders (default runs/mpm or runs/mpm-quick)."),
+    name: Optional[str] = typer.Option(None, help="File name stem instead of the figure's (e.g. fig7bc_band0: fig7bc_band0.png, fig7bc_band0_vs_mpm.csv)."),
 ) -> None:
     """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
 
@@ -155,8 +156,30 @@ def reproduce(
 
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
-    for p in FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm):
+    if name is not None and (not name or Path(name).name != name):
+        _fail(InputError(f"--name must be a plain file name stem, got {name!r}"))
+    if name is None:
+        paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
+    else:
+        paths = _renamed_figure(FIGURES[figure], figure.replace("-", "_"), name, out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
+    for p in paths:
         typer.echo(str(p))
+
+
+def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -> list[Path]:
+    """Run a figure function into a scratch folder under ``out``, then move its files to ``out``
+    with the stem ``stem`` replaced by ``name`` (a failed figure leaves ``out`` as it was)."""
+    import shutil
+    import tempfile
+
+    out.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=out, prefix=".reproduce-") as tmp:
+        moved = []
+        for p in make(Path(tmp), **kwargs):
+            target = out / (name + p.name[len(stem):] if p.name.startswith(stem) else p.name)
+            shutil.move(str(p), target)
+            moved.append(target)
+    return moved
 
 
 def _locomotor(name: str) -> Any:

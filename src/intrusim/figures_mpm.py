@@ -8,6 +8,7 @@ Full-resolution wheel sweeps take about an hour on 2 cores; ``quick`` uses 2 cm 
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +50,9 @@ def mpm_sweep(
 
     case = mpm_case(scenario, quick, runs)
     missing = [w for w in rpm if not (case.run_dir(w) / "result.json").exists()]  # type: ignore[operator]
+    if missing:
+        print(f"{scenario.name}: {len(missing)} of {len(rpm)} MPM runs not finished under {case.out_root}; running them "
+              f"({', '.join(f'{w:g}' for w in missing)} RPM; a run stopped midway resumes from its last checkpoint)", file=sys.stderr)
     if parallel and len(missing) > 1:
         workers = min(len(missing), os.cpu_count() or 1)
         case = case.model_copy(update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers)))))

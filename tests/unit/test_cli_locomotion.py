@@ -39,6 +39,15 @@ def test_reproduce_fig6a_quick(tmp_path):
     assert len(rows) == 15 and abs(float(rows[0]["fit_lambda"]) - float(rows[0]["paper_lambda"])) < 1e-9
 
 
+def test_reproduce_with_a_name_writes_that_stem_only(tmp_path):
+    r = runner.invoke(app, ["reproduce", "fig6a", "--out", str(tmp_path), "--quick", "--name", "fig6a_coarse"])
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig6a_coarse.csv", "fig6a_coarse.png"]
+    assert str(tmp_path / "fig6a_coarse.csv") in r.output
+    r = runner.invoke(app, ["reproduce", "fig6a", "--out", str(tmp_path), "--name", "../elsewhere"])
+    assert r.exit_code == 2 and "plain file name" in r.output
+
+
 def test_reproduce_unknown_figure():
     r = runner.invoke(app, ["reproduce", "fig99"])
     assert r.exit_code == 2 and "unknown figure" in r.output

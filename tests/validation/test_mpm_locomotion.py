@@ -62,3 +62,29 @@ def test_bad_mpm_cases_fail_before_compute():
         mpm_config(sc, quick_settings("wheel").model_copy(update=dict(start_x=0.05)), 30.0)
     with pytest.raises(InputError, match="MPMLocomotion runs the 'mpm' model"):
         MPMLocomotion(scenario=sc, mpm=quick_settings("wheel")).run_steady("drft", 30.0)
+
+
+class _Killed(Exception):
+    pass
+
+
+def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_run(tmp_path):
+    """A locomotion run stopped after its checkpoint (t = 0.5 s) and started again on the same
+    folder continues from the checkpoint: same steps, steady state and rear surface drop."""
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3))  # window from 0.4 s
+    full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
+
+    def kill(p):
+        if p["t"] > 0.62:
+            raise _Killed
+
+    with pytest.raises(_Killed):
+        run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=kill)
+    seen = []
+    resumed = run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=seen.append)
+    assert seen[0]["t"] == pytest.approx(0.55, abs=1e-3)  # went on from the checkpoint at 0.5 s, not from 0
+    assert resumed.steps == full.steps
+    for key in ("velocity", "sinkage", "slip", "surface_drop", "surface_drop_std"):
+        assert getattr(resumed, key) == pytest.approx(getattr(full, key), rel=1e-6, abs=1e-9), key
+    assert len(resumed.meta["fields"]) == len(full.meta["fields"]) == s.keep_fields

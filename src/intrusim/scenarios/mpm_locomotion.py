@@ -19,6 +19,7 @@ during the window (:func:`intrusim.analysis.free_surface.rear_contact_drop`).
 from __future__ import annotations
 
 import math
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -220,6 +221,53 @@ def _save_frame(folder: Path, solver: Any, outline: np.ndarray) -> None:
     )  # fmt: skip
 
 
+PROGRESS_FILE = "progress.json"  # rear surface drops measured so far and wall time, per chunk
+
+
+def write_progress(run_dir: Path, drops: list[tuple[float, float]], wall: float) -> None:
+    """Save what a resumed run needs besides the solver checkpoint (atomic)."""
+    import json
+
+    from intrusim.mpm.io import atomic_write_bytes
+
+    atomic_write_bytes(run_dir / PROGRESS_FILE, json.dumps({"drops": drops, "wall_time": wall}).encode())
+
+
+def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[list[tuple[float, float]], list[Path], float]:
+    """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
+
+    The solver state comes from ``checkpoint.npz`` when the folder's ``config.json`` holds the
+    same configuration, the thread count aside (the P2G sums do not depend on it; anything else
+    starts afresh); the rear surface drops and the wall time
+    from ``progress.json``, kept up to the checkpoint's time. Kept field snapshots after the
+    checkpoint are deleted (the run writes them again).
+    """
+    import json
+
+    fresh: tuple[list[tuple[float, float]], list[Path], float] = ([], [], 0.0)
+    if run_dir is None or not (run_dir / "checkpoint.npz").exists() or not (run_dir / "config.json").exists():
+        return fresh
+    def comparable(cfg: dict) -> dict:
+        return {**cfg, "backend": {k: v for k, v in cfg.get("backend", {}).items() if k != "cpu_threads"}}
+
+    saved = json.loads((run_dir / "config.json").read_text()).get("config") or {}
+    if comparable(saved) != comparable(json.loads(json.dumps(solver.cfg.model_dump(mode="json")))):
+        return fresh
+    solver.load_checkpoint(run_dir / "checkpoint.npz")
+    t = solver.t + 0.5 * solver.dt
+    progress_path = run_dir / PROGRESS_FILE
+    info = json.loads(progress_path.read_text()) if progress_path.exists() else {}
+    drops = [(float(a), float(b)) for a, b in info.get("drops", []) if a <= t]
+    kept = []
+    for path in sorted(run_dir.glob("fields_*.npz")):
+        if int(path.stem.split("_")[1]) > solver.step_count:
+            path.unlink()
+        else:
+            kept.append(path)
+    print(f"{run_dir}: resumed at t = {solver.t:.3f} s (step {solver.step_count})", file=sys.stderr)
+    return drops, kept[-keep_fields:] if keep_fields else [], float(info.get("wall_time", 0.0))
+
+
 def run_mpm_steady(
     scenario: LocomotorScenario,
     settings: MPMSettings,
@@ -233,52 +281,66 @@ def run_mpm_steady(
     cfg = mpm_config(scenario, settings, omega_rpm, out_dir)
     s = settings
     solver = Solver(cfg)
-    if out_dir is not None:
+    run_dir = None if out_dir is None else Path(out_dir)
+    if run_dir is not None:
         import json
 
-        Path(out_dir).mkdir(parents=True, exist_ok=True)
+        run_dir.mkdir(parents=True, exist_ok=True)
         info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
-        (Path(out_dir) / "locomotion.json").write_text(json.dumps(info, indent=1))
+        (run_dir / "locomotion.json").write_text(json.dumps(info, indent=1))
     body = solver.intruders[0]
     outline = np.asarray(body.contact.vertices)
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
     t_avg = s.ramp_time + s.settle_time
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
-    drops: list[tuple[float, float]] = []
-    kept: list[Path] = []
-    wall0 = time.perf_counter()
-    t_next = 0.0
+    step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
+    drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
+
+    def sample() -> None:
+        """Rear surface drop (and kept particle fields) of the window at this chunk's end."""
+        st = body.state
+        f = solver.particle_fields()
+        dh = rear_contact_drop(
+            f["x"], f["pressure"], body.world_vertices(), (st.x, st.z), 1.0, s.bed_depth,
+            band=solver.h, pressure_tol=0.5 * s.rho_c * scenario.gravity * solver.h,
+        )  # fmt: skip
+        drops.append((solver.t, dh))
+        if run_dir is not None and s.keep_fields:
+            path = run_dir / f"fields_{solver.step_count:08d}.npz"
+            np.savez_compressed(
+                path, x=f["x"], v=f["v"], pressure=f["pressure"], gdot_p=f["gdot_p"], eps_p=f["eps_p"],
+                body=np.array([st.x, st.z, st.theta, st.vx, st.vz, st.omega]), outline=outline, t=solver.t,
+            )  # fmt: skip
+            if path not in kept:
+                kept.append(path)
+            while len(kept) > s.keep_fields:
+                kept.pop(0).unlink(missing_ok=True)
+
+    # chunk ends are t = k step_t; a resumed run goes on from the chunk its checkpoint lies in
+    k0 = math.floor((solver.t + 0.5 * solver.dt) / step_t)
+    t_next = k0 * step_t
     next_frame = 0.0
-    step_t = min(s.chunk, s.frames_every) if (s.frames_every and out_dir is not None) else s.chunk
-    while solver.t < s.t_max - 0.5 * solver.dt:
+    if s.frames_every and solver.step_count > 0:  # resumed: the frames up to now are on disk
+        next_frame = (math.floor((solver.t + 1e-9) / s.frames_every) + 1) * s.frames_every
+    at_chunk_end = solver.step_count > 0 and solver.step_count == int(round(t_next / solver.dt))
+    if at_chunk_end and solver.t >= t_avg and not any(abs(t - solver.t) < 0.5 * solver.dt for t, _ in drops):
+        sample()  # killed between the checkpoint and the progress file of this chunk
+    wall0 = time.perf_counter() - wall_before
+    near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
+    while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
         t_next = min(t_next + step_t, s.t_max)
         solver.run(t_end=t_next)
         st = body.state
         if progress is not None:
             progress({"t": solver.t, "x": st.x, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
-        if out_dir is not None and s.frames_every and solver.t + 1e-9 >= next_frame:
+        if run_dir is not None and s.frames_every and solver.t + 1e-9 >= next_frame:
             next_frame += s.frames_every
-            _save_frame(Path(out_dir) / "frames", solver, outline)
+            _save_frame(run_dir / "frames", solver, outline)
         if solver.t >= t_avg:
-            f = solver.particle_fields()
-            h = solver.h
-            dh = rear_contact_drop(
-                f["x"], f["pressure"], body.world_vertices(), (st.x, st.z), 1.0, s.bed_depth,
-                band=h, pressure_tol=0.5 * s.rho_c * scenario.gravity * h,
-            )  # fmt: skip
-            drops.append((solver.t, dh))
-            if out_dir is not None and s.keep_fields:
-                path = Path(out_dir) / f"fields_{solver.step_count:08d}.npz"
-                np.savez_compressed(
-                    path, x=f["x"], v=f["v"], pressure=f["pressure"], gdot_p=f["gdot_p"], eps_p=f["eps_p"],
-                    body=np.array([st.x, st.z, st.theta, st.vx, st.vz, st.omega]), outline=outline, t=solver.t,
-                )  # fmt: skip
-                kept.append(path)
-                while len(kept) > s.keep_fields:
-                    kept.pop(0).unlink(missing_ok=True)
-        if st.x + radius > s.domain[0] - s.wall_margin:
-            break
+            sample()
+        if run_dir is not None:
+            write_progress(run_dir, drops, time.perf_counter() - wall0)
     wall = time.perf_counter() - wall0
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
