@@ -10,7 +10,8 @@ law with a chosen band.
     python examples/mpm_contact_band.py wheel 90 --cell-mm 2.5 --small     # the Fig S1 wheel, ~32 min
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
-    python examples/mpm_contact_band.py sweep --band 0 --out runs/band/grousered_wheel_band0_mpm_sweep.csv
+    python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
+    python examples/mpm_contact_band.py sweep --band 0 --wheel small --out docs/figures/mpm_band0/small_grousered_wheel_mpm_sweep.csv
     python examples/mpm_contact_band.py plate --band 0                     # 15 runs, ~11 min
     python examples/mpm_contact_band.py plate --band 0 --cell-mm 5         # ~2 min
 
@@ -22,8 +23,9 @@ of an earlier table CSV are kept unless a run folder gives the same wheel, omega
 (run folders are not kept in git; the CSV is).
 
 `sweep` turns a table CSV into an MPM sweep CSV (the format of `intrusim mpm sweep`, read by
-`intrusim calibrate --mpm`): for each omega of one wheel, the row with the given band and the finest
-cells.
+`intrusim calibrate --mpm` and, in a --runs folder, by `intrusim reproduce --mpm`): for each omega
+of one wheel, the row with the given band and the finest cells; a row whose velocity drifts by more
+than --max-drift (default 0.3) between the window's halves is marked not ok (a wheel digging in).
 """
 
 from __future__ import annotations
@@ -110,11 +112,16 @@ def sweep(args: argparse.Namespace) -> None:
                 best[w] = r
     if not best:
         raise SystemExit(f"{args.table}: no {args.wheel}-wheel row with band {args.band:g}")
-    records = [{"omega_rpm": w, "ok": True, "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
-                "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"]}
+    records = [{"omega_rpm": w, "ok": r["drift"] <= args.max_drift, "velocity": r["velocity"], "sinkage": r["sinkage"],
+                "slip": r["slip"], "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"],
+                "error": "" if r["drift"] <= args.max_drift else f"not steady: v drifts by {r['drift']:.2f} over the window"}
                for w, r in sorted(best.items())]  # fmt: skip
     name = "small_grousered_wheel" if args.wheel == "small" else "grousered_wheel"
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     out = SweepResult(name, "mpm", None, records).to_csv(args.out)
+    for r in records:
+        if not r["ok"]:
+            print(f"{r['omega_rpm']:g} RPM marked not ok: {r['error']}")
     print(f"wrote {out}: " + ", ".join(f"{w:g} RPM ({r['cell_mm']:g} mm)" for w, r in sorted(best.items())))
 
 
@@ -182,6 +189,7 @@ w = sub.add_parser("sweep", help="an MPM sweep CSV (for intrusim calibrate) from
 w.add_argument("--table", default="docs/figures/wheel_resolution.csv")
 w.add_argument("--band", type=float, default=0.0, help="contact band, cells")
 w.add_argument("--wheel", choices=("large", "small"), default="large", help="the Table S1 wheel or the half-size one of Fig S1")
+w.add_argument("--max-drift", type=float, default=0.3, help="rows whose v drifts more over the window are marked not ok")
 w.add_argument("--out", required=True)
 p = sub.add_parser("plate", help="the Fig 6 plate-drag fit (2.5 mm cells) with a given band")
 p.add_argument("--band", type=float, default=1.0, help="contact band, cells")

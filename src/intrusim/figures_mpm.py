@@ -45,11 +45,22 @@ def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPM
 def mpm_sweep(
     scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None
 ) -> SweepResult:
-    """MPM steady states at ``rpm`` (reusing finished run folders)."""
+    """MPM steady states at ``rpm``: the finished run folders under the runs root; if some are
+    missing and the root holds ``SCENARIO_mpm_sweep.csv`` (as ``intrusim mpm sweep`` and
+    ``examples/mpm_contact_band.py sweep`` write it), that file's finished rows, whatever their
+    omegas; otherwise the missing runs are run (and reused next time)."""
     import os
+
+    from intrusim.analysis.calibration import load_reference
 
     case = mpm_case(scenario, quick, runs)
     missing = [w for w in rpm if not (case.run_dir(w) / "result.json").exists()]  # type: ignore[operator]
+    table = Path(case.out_root or ".") / f"{scenario.name}_mpm_sweep.csv"
+    if missing and table.is_file():
+        res = load_reference(table, scenario.name)
+        print(f"{scenario.name}: MPM points from {table} ({len(res.records)} finished runs at "
+              f"{', '.join(f'{w:g}' for w in res.omega_rpm)} RPM)", file=sys.stderr)
+        return res
     if missing:
         print(f"{scenario.name}: {len(missing)} of {len(rpm)} MPM runs not finished under {case.out_root}; running them "
               f"({', '.join(f'{w:g}' for w in missing)} RPM; a run stopped midway resumes from its last checkpoint)", file=sys.stderr)

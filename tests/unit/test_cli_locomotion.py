@@ -48,6 +48,21 @@ def test_reproduce_with_a_name_writes_that_stem_only(tmp_path):
     assert r.exit_code == 2 and "plain file name" in r.output
 
 
+def test_reproduce_mpm_takes_the_sweep_csv_of_a_runs_folder_without_run_folders(tmp_path):
+    from intrusim.analysis.sweep import SweepResult
+
+    rec = dict(slip=0.4, velocity_std=float("nan"), sinkage_std=float("nan"), drift=0.1, settled=True, error="")
+    rows = [{**rec, "omega_rpm": 20.0, "ok": True, "velocity": 0.12, "sinkage": 0.041},
+            {**rec, "omega_rpm": 45.0, "ok": True, "velocity": 0.20, "sinkage": 0.053},
+            {**rec, "omega_rpm": 90.0, "ok": False, "velocity": 0.1, "sinkage": 0.04, "error": "not steady"}]
+    SweepResult("grousered_wheel", "mpm", None, rows).to_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
+    r = runner.invoke(app, ["reproduce", "fig3ab", "--quick", "--runs", str(tmp_path), "--out", str(tmp_path / "f")])
+    assert r.exit_code == 0, r.output
+    got = list(csv.DictReader((tmp_path / "f" / "fig3ab.csv").open()))
+    assert [(float(g["omega_rpm"]), float(g["velocity_m_s"])) for g in got] == [(20.0, 0.12), (45.0, 0.20)]
+    assert not any(p.is_dir() for p in tmp_path.iterdir() if p.name != "f")  # no MPM run was started
+
+
 def test_reproduce_unknown_figure():
     r = runner.invoke(app, ["reproduce", "fig99"])
     assert r.exit_code == 2 and "unknown figure" in r.output
