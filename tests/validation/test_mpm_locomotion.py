@@ -88,3 +88,7 @@ def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_ru
     for key in ("velocity", "sinkage", "slip", "surface_drop", "surface_drop_std"):
         assert getattr(resumed, key) == pytest.approx(getattr(full, key), rel=1e-6, abs=1e-9), key
     assert len(resumed.meta["fields"]) == len(full.meta["fields"]) == s.keep_fields
+    # another configuration on the same folder does not take that checkpoint: it starts from 0
+    seen.clear()
+    run_mpm_steady(sc, s.model_copy(update=dict(t_max=0.6)), 30.0, tmp_path / "killed", progress=seen.append)
+    assert seen[0]["t"] == pytest.approx(0.05, abs=1e-3)

@@ -237,23 +237,29 @@ def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[lis
     """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
 
     The solver state comes from ``checkpoint.npz`` when the folder's ``config.json`` holds the
-    same configuration, the thread count aside (the P2G sums do not depend on it; anything else
-    starts afresh); the rear surface drops and the wall time
-    from ``progress.json``, kept up to the checkpoint's time. Kept field snapshots after the
-    checkpoint are deleted (the run writes them again).
+    same configuration, the thread count aside (the P2G sums do not depend on it); the rear
+    surface drops and the wall time from ``progress.json``, kept up to the checkpoint's time.
+    Kept field snapshots after the checkpoint are deleted (the run writes them again). A
+    checkpoint of another configuration is deleted and the run starts afresh.
     """
     import json
 
     fresh: tuple[list[tuple[float, float]], list[Path], float] = ([], [], 0.0)
-    if run_dir is None or not (run_dir / "checkpoint.npz").exists() or not (run_dir / "config.json").exists():
+    ckpt = None if run_dir is None else run_dir / "checkpoint.npz"
+    if ckpt is None or not ckpt.exists():
         return fresh
+
     def comparable(cfg: dict) -> dict:
         return {**cfg, "backend": {k: v for k, v in cfg.get("backend", {}).items() if k != "cpu_threads"}}
 
-    saved = json.loads((run_dir / "config.json").read_text()).get("config") or {}
+    config_path = run_dir / "config.json"
+    saved = (json.loads(config_path.read_text()).get("config") or {}) if config_path.exists() else {}
     if comparable(saved) != comparable(json.loads(json.dumps(solver.cfg.model_dump(mode="json")))):
+        ckpt.unlink()
+        (run_dir / PROGRESS_FILE).unlink(missing_ok=True)
+        print(f"{run_dir}: its checkpoint is of another configuration: starting afresh", file=sys.stderr)
         return fresh
-    solver.load_checkpoint(run_dir / "checkpoint.npz")
+    solver.load_checkpoint(ckpt)
     t = solver.t + 0.5 * solver.dt
     progress_path = run_dir / PROGRESS_FILE
     info = json.loads(progress_path.read_text()) if progress_path.exists() else {}
