@@ -135,11 +135,12 @@ def table(args: argparse.Namespace) -> None:
     if args.merge:
         new = {_key(r) for r in rows}
         rows += [r for r in read_table(args.merge) if _key(r) not in new]
-    rows = [r for r in rows if r["omega_rpm"] in args.rpm]
     rows.sort(key=lambda r: (r["wheel"], r["omega_rpm"], r["band_cells"], -r["cell_mm"]))
+    with_rpm = sorted({r["omega_rpm"] for r in rows}) if args.rpm is None else sorted(args.rpm)
+    shown = [r for r in rows if r["omega_rpm"] in with_rpm]  # the CSV keeps every row
     print("| wheel | RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for r in rows:
+    for r in shown:
         print(f"| {r['wheel']} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
               f"{r['slip']:.3f} | {r['drift']:.2f} | {r['surface_drop_run'] * 1e3:.1f} |")
     out = Path(args.out)
@@ -149,10 +150,10 @@ def table(args: argparse.Namespace) -> None:
         w.writeheader()
         w.writerows(rows)
     fig, axes = plt.subplots(1, 2, figsize=(8.4, 3.6))
-    colors = plt.cm.viridis(np.linspace(0, 0.9, len(args.rpm)))
-    for rpm, color in zip(sorted(args.rpm), colors):
+    colors = plt.cm.viridis(np.linspace(0, 0.9, len(with_rpm)))
+    for rpm, color in zip(with_rpm, colors):
         for cell, marker, fill in ((5.0, "o", color), (2.5, "s", "none")):
-            sel = sorted((r for r in rows if r["wheel"] == "large" and r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
+            sel = sorted((r for r in shown if r["wheel"] == "large" and r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
                          key=lambda r: r["band_cells"])
             if not sel:
                 continue
@@ -182,7 +183,7 @@ r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
 t.add_argument("--t-cut", type=float, default=2.0)
-t.add_argument("--rpm", type=float, nargs="+", default=[30.0, 90.0])
+t.add_argument("--rpm", type=float, nargs="+", default=None, help="omegas printed and plotted (default: all); the CSV keeps every row")
 t.add_argument("--out", default="docs/figures")
 t.add_argument("--merge", help="an earlier table CSV whose rows are kept unless a run folder replaces them")
 w = sub.add_parser("sweep", help="an MPM sweep CSV (for intrusim calibrate) from a table CSV")
