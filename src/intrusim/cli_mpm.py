@@ -14,7 +14,7 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
-          cell_size: float | None = None, contact_band: float | None = None):
+          cell_size: float | None = None, contact_band: float | None = None, length: float | None = None):
     from intrusim.scenarios import LOCOMOTORS
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -23,6 +23,11 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     sc = LOCOMOTORS[scenario]()
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
     settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
+    if length is not None:  # same cells, a shorter or longer bed
+        if not length > settings.start_x + settings.wall_margin:
+            raise InputError(f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}")
+        settings = settings.model_copy(update=dict(domain=(float(length), settings.domain[1]),
+                                                   cells=(max(1, round(length / settings.h)), settings.cells[1])))
     if cell_size is not None:
         if not cell_size > 0:
             raise InputError(f"cell_size must be > 0 m, got {cell_size!r}")
@@ -51,10 +56,12 @@ def steady(
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
     contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
+    length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
+    threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, None, cell_size, contact_band)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -92,6 +99,7 @@ def sweep(
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
     contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
+    length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -100,7 +108,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

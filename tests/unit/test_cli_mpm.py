@@ -2,6 +2,7 @@
 
 import csv
 
+import pytest
 from typer.testing import CliRunner
 
 from intrusim.cli import app
@@ -60,3 +61,14 @@ def test_contact_band_reaches_the_solver_config_and_a_negative_one_is_refused():
     assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).contact_band_cells == 1.0
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--contact-band", "-1"])
     assert r.exit_code == 2 and "contact_band must be >= 0" in r.output
+
+
+def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
+    from intrusim.cli_mpm import _case
+
+    full = _case("runner", False, None, None, None)
+    short = _case("runner", False, None, None, None, cell_size=0.0025, length=1.0)
+    assert full.mpm.domain[0] == 4.0 and short.mpm.domain == (1.0, full.mpm.domain[1])
+    assert short.mpm.h == pytest.approx(0.0025) and short.mpm.cells == (400, round(full.mpm.domain[1] / 0.0025))
+    r = runner.invoke(app, ["mpm", "steady", "--scenario", "runner", "--length", "0.1"])
+    assert r.exit_code == 2 and "length must exceed" in r.output
