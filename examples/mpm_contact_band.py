@@ -112,10 +112,13 @@ def sweep(args: argparse.Namespace) -> None:
                 best[w] = r
     if not best:
         raise SystemExit(f"{args.table}: no {args.wheel}-wheel row with band {args.band:g}")
-    records = [{"omega_rpm": w, "ok": r["drift"] <= args.max_drift, "velocity": r["velocity"], "sinkage": r["sinkage"],
-                "slip": r["slip"], "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"],
-                "error": "" if r["drift"] <= args.max_drift else f"not steady: v drifts by {r['drift']:.2f} over the window"}
-               for w, r in sorted(best.items())]  # fmt: skip
+    def record(w: float, r: dict) -> dict:
+        steady = r["drift"] <= args.max_drift
+        return {"omega_rpm": w, "ok": steady, "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
+                "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"],
+                "error": "" if steady else f"not steady: v drifts by {r['drift']:.2f} over the window"}
+
+    records = [record(w, r) for w, r in sorted(best.items())]
     name = "small_grousered_wheel" if args.wheel == "small" else "grousered_wheel"
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     out = SweepResult(name, "mpm", None, records).to_csv(args.out)
