@@ -55,7 +55,7 @@ def mpm_sweep(
 
     case = mpm_case(scenario, quick, runs)
     missing = [w for w in rpm if not (case.run_dir(w) / "result.json").exists()]  # type: ignore[operator]
-    table = Path(case.out_root or ".") / f"{scenario.name}_mpm_sweep.csv"
+    table = runs_root(runs, quick) / f"{scenario.name}_mpm_sweep.csv"
     if missing and table.is_file():
         res = load_reference(table, scenario.name)
         print(f"{scenario.name}: MPM points from {table} ({len(res.records)} finished runs at "

@@ -28,6 +28,7 @@ from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 
 STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
 
 
 def time_step_limits(cfg: MPMConfig) -> dict[str, float]:
@@ -235,7 +236,7 @@ class Solver:
                 if snap and n % snap == 0:
                     self.write_snapshot()
                 if ckpt and n % ckpt == 0:
-                    self.save_checkpoint(self.run_dir / "checkpoint.npz")
+                    self.save_checkpoint(self.run_dir / CHECKPOINT)
         if self.run_dir is not None:
             mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
         return self.rows
@@ -296,7 +297,30 @@ class Solver:
         run_dir = Path(run_dir)
         payload = json.loads((run_dir / "config.json").read_text())
         solver = cls(MPMConfig.model_validate(payload["config"]))
-        ckpt = run_dir / "checkpoint.npz"
+        ckpt = run_dir / CHECKPOINT
         if ckpt.exists():
             solver.load_checkpoint(ckpt)
         return solver
+
+    def continue_in_run_dir(self) -> bool:
+        """Load the run folder's checkpoint if its config.json holds this configuration, the thread
+        count aside (the P2G sums do not depend on it). True if loaded; a checkpoint of another
+        configuration is deleted, and the run starts afresh."""
+        import json
+        import sys
+
+        ckpt = None if self.run_dir is None else self.run_dir / CHECKPOINT
+        if ckpt is None or not ckpt.exists():
+            return False
+
+        def comparable(cfg: dict) -> dict:
+            return {**cfg, "backend": {k: v for k, v in cfg.get("backend", {}).items() if k != "cpu_threads"}}
+
+        config_path = self.run_dir / "config.json"
+        saved = (json.loads(config_path.read_text()).get("config") or {}) if config_path.exists() else {}
+        if comparable(saved) != comparable(self.cfg.model_dump(mode="json")):
+            ckpt.unlink()
+            print(f"{self.run_dir}: its checkpoint is of another configuration: starting afresh", file=sys.stderr)
+            return False
+        self.load_checkpoint(ckpt)
+        return True

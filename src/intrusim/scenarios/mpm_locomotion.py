@@ -236,32 +236,20 @@ def write_progress(run_dir: Path, drops: list[tuple[float, float]], wall: float)
 def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[list[tuple[float, float]], list[Path], float]:
     """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
 
-    The solver state comes from ``checkpoint.npz`` when the folder's ``config.json`` holds the
-    same configuration, the thread count aside (the P2G sums do not depend on it); the rear
-    surface drops and the wall time from ``progress.json``, kept up to the checkpoint's time.
-    Kept field snapshots after the checkpoint are deleted (the run writes them again). A
-    checkpoint of another configuration is deleted and the run starts afresh.
+    The solver state comes from its checkpoint (:meth:`Solver.continue_in_run_dir`: same
+    configuration only, else the run starts afresh); the rear surface drops and the wall time from
+    ``progress.json``, kept up to the checkpoint's time. Kept field snapshots after the checkpoint
+    are deleted (the run writes them again).
     """
     import json
 
-    fresh: tuple[list[tuple[float, float]], list[Path], float] = ([], [], 0.0)
-    ckpt = None if run_dir is None else run_dir / "checkpoint.npz"
-    if ckpt is None or not ckpt.exists():
-        return fresh
-
-    def comparable(cfg: dict) -> dict:
-        return {**cfg, "backend": {k: v for k, v in cfg.get("backend", {}).items() if k != "cpu_threads"}}
-
-    config_path = run_dir / "config.json"
-    saved = (json.loads(config_path.read_text()).get("config") or {}) if config_path.exists() else {}
-    if comparable(saved) != comparable(json.loads(json.dumps(solver.cfg.model_dump(mode="json")))):
-        ckpt.unlink()
-        (run_dir / PROGRESS_FILE).unlink(missing_ok=True)
-        print(f"{run_dir}: its checkpoint is of another configuration: starting afresh", file=sys.stderr)
-        return fresh
-    solver.load_checkpoint(ckpt)
-    t = solver.t + 0.5 * solver.dt
+    if run_dir is None:
+        return [], [], 0.0
     progress_path = run_dir / PROGRESS_FILE
+    if not solver.continue_in_run_dir():
+        progress_path.unlink(missing_ok=True)  # the progress of no checkpoint, or of another configuration's
+        return [], [], 0.0
+    t = solver.t + 0.5 * solver.dt
     info = json.loads(progress_path.read_text()) if progress_path.exists() else {}
     drops = [(float(a), float(b)) for a, b in info.get("drops", []) if a <= t]
     kept = []
