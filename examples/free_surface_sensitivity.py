@@ -32,44 +32,12 @@ from pathlib import Path
 
 import numpy as np
 
-from intrusim.analysis.free_surface import polygon_signed_distance, rear_contact_drop
+from intrusim.analysis.free_surface import lowest_free_contact_drop, rear_contact_drop, wake_drop
 from intrusim.geometry import posed_polygon
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 
 TOL_FACTORS = (0.05, 0.1, 0.25, 0.5, 1.0, 2.0)  # pressure threshold / (rho_c g h)
 BAND_CELLS = (0.5, 1.0, 2.0)  # contact band, cells
-
-
-def wake_drop(positions: np.ndarray, centre: tuple[float, float], reach: float, surface_z: float, h: float) -> float:
-    """Drop (m) of the top of the grains in the strip 1-3 cells behind the wheel's bounding circle."""
-    x0 = centre[0] - reach
-    strip = (positions[:, 0] > x0 - 3 * h) & (positions[:, 0] < x0 - h)
-    if not strip.any():
-        return float("nan")
-    return float(surface_z - positions[strip, 1].max())
-
-
-def rear_contacts(positions, polygon, centre, band):
-    """Indices of the particles within ``band`` of the outline, behind the centre (travel +x)."""
-    reach = np.max(np.hypot(polygon[:, 0] - centre[0], polygon[:, 1] - centre[1])) + band
-    near = np.hypot(positions[:, 0] - centre[0], positions[:, 1] - centre[1]) < reach
-    idx = np.flatnonzero(near & (positions[:, 0] < centre[0]))
-    return idx[polygon_signed_distance(positions[idx], polygon) < band]
-
-
-def lowest_free_contact(positions, pressure, polygon, centre, surface_z, band, tol) -> float:
-    """The paper's words read literally: the lowest rear contact particle whose pressure is below tol."""
-    idx = rear_contacts(positions, polygon, centre, band)
-    free = idx[pressure[idx] <= tol]
-    return float(surface_z - positions[free, 1].min()) if len(free) else float("nan")
-
-
-def highest_loaded_below_surface(positions, pressure, polygon, centre, surface_z, band, tol) -> float:
-    """As rear_contact_drop, but only contact particles below the undisturbed surface count (grains
-    carried up the rear of the wheel, loaded by their own weight, are left out)."""
-    idx = rear_contacts(positions, polygon, centre, band)
-    loaded = idx[(pressure[idx] > tol) & (positions[idx, 1] < surface_z)]
-    return float(surface_z - positions[loaded, 1].max()) if len(loaded) else float("nan")
 
 
 def snapshot_drops(path: Path, bed_depth: float, rho_c: float, gravity: float, h: float) -> dict[str, float]:
@@ -82,12 +50,13 @@ def snapshot_drops(path: Path, bed_depth: float, rho_c: float, gravity: float, h
         for band in BAND_CELLS:
             out[f"contact_tol{tol:g}_band{band:g}"] = rear_contact_drop(
                 d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=band * h, pressure_tol=tol * rho_c * gravity * h)
-    pos, p = np.asarray(d["x"]), np.asarray(d["pressure"])
+    pos, p = d["x"], d["pressure"]
     tol, band = 0.5 * rho_c * gravity * h, h
-    out["lowest_free_tol0.5_band1"] = lowest_free_contact(pos, p, poly, (x, z), bed_depth, band, tol)
-    out["loaded_below_surface_tol0.5_band1"] = highest_loaded_below_surface(pos, p, poly, (x, z), bed_depth, band, tol)
+    out["lowest_free_tol0.5_band1"] = lowest_free_contact_drop(pos, p, poly, (x, z), 1.0, bed_depth, band, tol)
+    out["loaded_below_surface_tol0.5_band1"] = rear_contact_drop(
+        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, below_surface_only=True)
     reach = float(np.max(np.hypot(poly[:, 0] - x, poly[:, 1] - z)))
-    out["wake"] = wake_drop(np.asarray(d["x"]), (x, z), reach, bed_depth, h)
+    out["wake"] = wake_drop(pos, x - reach, 1.0, bed_depth, (h, 3 * h))
     return out
 
 

@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from intrusim.analysis.free_surface import polygon_signed_distance, rear_contact_drop
+from intrusim.analysis.free_surface import (
+    lowest_free_contact_drop,
+    polygon_signed_distance,
+    rear_contact_drop,
+    wake_drop,
+)
+from intrusim._checks import InputError
 from intrusim.geometry import circle
 
 
@@ -47,6 +53,40 @@ def test_rear_contact_drop_no_contact_is_nan():
     wheel = circle(0.1, 0.1, 64).polygon + [0.0, 0.5]
     pos, p = synthetic_bed(0.01)
     assert np.isnan(rear_contact_drop(pos, p, wheel, (0.0, 0.5), 1.0, 0.0, band=0.006, pressure_tol=10.0))
+
+
+def test_rear_contact_drop_below_surface_only_skips_grains_carried_up():
+    """A loaded pile riding up the wheel's rear, above the surface, hides the drop unless skipped."""
+    wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
+    pos, p = synthetic_bed(0.02)
+    h = 0.004
+    angles = np.linspace(np.pi / 2 + 0.2, np.pi / 2 + 0.9, 12)  # rear-upper arc, above z = 0
+    pile = np.column_stack([(0.1 + 0.002) * np.cos(angles), 0.04 + (0.1 + 0.002) * np.sin(angles)])
+    pos, p = np.vstack([pos, pile]), np.append(p, np.full(len(pile), 638 * 9.8 * 0.01))
+    args = (pos, p, wheel, (0.0, 0.04), +1.0, 0.0)
+    kw = dict(band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h)
+    assert rear_contact_drop(*args, **kw) < 0.0  # the pile above the surface
+    assert rear_contact_drop(*args, **kw, below_surface_only=True) == pytest.approx(0.02, abs=1.5 * h)
+
+
+def test_lowest_free_contact_finds_the_wake_not_the_surface():
+    """Read literally (lowest pressure-free contact), the rule finds the loosened wake under the wheel."""
+    wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
+    pos, p = synthetic_bed(0.01)
+    h = 0.004
+    got = lowest_free_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h)
+    assert got > 0.04  # deeper than the 1 cm drop: near the wheel's bottom (0.06 m below the surface)
+    assert got == pytest.approx(0.06, abs=3 * h)
+
+
+def test_wake_drop_strip_behind_the_rear():
+    pos = np.array([[-0.50, -0.03], [-0.45, -0.01], [-0.31, -0.02], [-0.2, 0.05], [0.3, 0.1]])
+    # forward +x, rear at x = -0.3: the strip 0.05-0.2 m behind holds the first two points
+    assert wake_drop(pos, -0.3, 1.0, 0.0, (0.05, 0.2)) == pytest.approx(0.01)
+    assert wake_drop(pos, 0.2, -1.0, 0.0, (0.05, 0.2)) == pytest.approx(-0.1)  # travelling -x
+    assert np.isnan(wake_drop(pos, -0.3, 1.0, 0.0, (1.0, 2.0)))
+    with pytest.raises(InputError, match="width"):
+        wake_drop(pos, -0.3, 1.0, 0.0, (0.2, 0.05))
 
 
 def test_movie_written(tmp_path):

@@ -33,6 +33,22 @@ def polygon_signed_distance(points: np.ndarray, polygon: np.ndarray) -> np.ndarr
     return np.where(inside, -d, d)
 
 
+def rear_contact_indices(
+    positions: np.ndarray, polygon_world: np.ndarray, centre: tuple[float, float], forward: float, band: float
+) -> np.ndarray:
+    """Indices of the particles within ``band`` (m) of the outline and behind the centre (relative
+    to the travel direction ``forward`` = +1 or -1): the wheel's rear contact."""
+    cx, cz = centre
+    # only particles inside the wheel's bounding circle plus the band can touch it
+    reach = np.max(np.linalg.norm(np.asarray(polygon_world) - [cx, cz], axis=1)) + band
+    near = np.hypot(positions[:, 0] - cx, positions[:, 1] - cz) < reach
+    near &= forward * (positions[:, 0] - cx) < 0.0  # rear half-plane
+    idx = np.flatnonzero(near)
+    if len(idx) == 0:
+        return idx
+    return idx[polygon_signed_distance(positions[idx], polygon_world) < band]
+
+
 def rear_contact_drop(
     positions: np.ndarray,
     pressure: np.ndarray,
@@ -42,6 +58,7 @@ def rear_contact_drop(
     surface_z: float,
     band: float,
     pressure_tol: float,
+    below_surface_only: bool = False,
 ) -> float:
     """Drop dh (m) of the rear free surface where it meets the wheel; NaN if no loaded rear contact.
 
@@ -56,25 +73,61 @@ def rear_contact_drop(
     band : particles closer than this to the outline are in contact, m (about one grid cell).
     pressure_tol : pressure above which a contact particle counts as loaded, Pa (about
         rho g h / 2 for grid spacing h).
+    below_surface_only : count only contact particles below ``surface_z`` (grains carried up
+        the wheel's rear, loaded by their own weight, would otherwise give dh < 0).
     """
+    pos, p, tol = _checked(positions, pressure, centre, forward, band, pressure_tol)
+    idx = rear_contact_indices(pos, polygon_world, centre, forward, band)
+    loaded = idx[p[idx] > tol]
+    if below_surface_only:
+        loaded = loaded[pos[loaded, 1] < surface_z]
+    if len(loaded) == 0:  # nothing behind the wheel pushes back: no rear free surface to measure
+        return float("nan")
+    return float(surface_z - pos[loaded, 1].max())
+
+
+def lowest_free_contact_drop(
+    positions: np.ndarray,
+    pressure: np.ndarray,
+    polygon_world: np.ndarray,
+    centre: tuple[float, float],
+    forward: float,
+    surface_z: float,
+    band: float,
+    pressure_tol: float,
+) -> float:
+    """The paper's words read literally: depth (m) below ``surface_z`` of the lowest rear contact
+    particle whose pressure is at most ``pressure_tol``; NaN if none. This also finds the loosened,
+    pressure-free wake under the wheel, which is why :func:`rear_contact_drop` is the measurement
+    used (arguments as there)."""
+    pos, p, tol = _checked(positions, pressure, centre, forward, band, pressure_tol)
+    idx = rear_contact_indices(pos, polygon_world, centre, forward, band)
+    free = idx[p[idx] <= tol]
+    return float(surface_z - pos[free, 1].min()) if len(free) else float("nan")
+
+
+def wake_drop(positions: np.ndarray, rear_x: float, forward: float, surface_z: float, width: tuple[float, float]) -> float:
+    """Depth (m) below ``surface_z`` of the top of the grains in the strip ``width`` = (near, far)
+    metres behind ``rear_x`` (the wheel's rearmost extent); negative for a ridge; NaN if empty."""
+    pos = finite_array("positions", positions, (2,))
+    behind = forward * (finite("rear_x", rear_x) - pos[:, 0])
+    near, far = width
+    if not 0.0 <= near < far:
+        raise InputError(f"width must be (near, far) with 0 <= near < far, got {width!r}")
+    strip = (behind > near) & (behind < far)
+    return float(surface_z - pos[strip, 1].max()) if strip.any() else float("nan")
+
+
+def _checked(positions, pressure, centre, forward, band, pressure_tol):
+    """Validated (positions, pressure, tol) of a rear-contact measurement."""
     pos = finite_array("positions", positions, (2,))
     p = finite_array("pressure", pressure)
     if len(p) != len(pos):
         raise InputError("positions and pressure must have the same length")
-    band = positive("band", band)
+    positive("band", band)
     tol = positive("pressure_tol", pressure_tol)
-    cx, cz = finite("centre x", centre[0]), finite("centre z", centre[1])
+    finite("centre x", centre[0])
+    finite("centre z", centre[1])
     if forward not in (1.0, -1.0, 1, -1):
         raise InputError(f"forward must be +1 or -1, got {forward!r}")
-    # only particles inside the wheel's bounding circle plus the band can touch it
-    reach = np.max(np.linalg.norm(np.asarray(polygon_world) - [cx, cz], axis=1)) + band
-    near = np.hypot(pos[:, 0] - cx, pos[:, 1] - cz) < reach
-    near &= forward * (pos[:, 0] - cx) < 0.0  # rear half-plane
-    idx = np.flatnonzero(near)
-    if len(idx) == 0:
-        return float("nan")
-    dist = polygon_signed_distance(pos[idx], polygon_world)
-    loaded = idx[(dist < band) & (p[idx] > tol)]
-    if len(loaded) == 0:  # nothing behind the wheel pushes back: no rear free surface to measure
-        return float("nan")
-    return float(surface_z - pos[loaded, 1].max())
+    return pos, p, tol
