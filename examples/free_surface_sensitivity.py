@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from intrusim.analysis.free_surface import lowest_free_contact_drop, rear_contact_drop, wake_drop
+from intrusim.analysis.free_surface import rear_contact_drop, wake_drop
 from intrusim.geometry import posed_polygon
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 
@@ -52,7 +52,8 @@ def snapshot_drops(path: Path, bed_depth: float, rho_c: float, gravity: float, h
                 d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=band * h, pressure_tol=tol * rho_c * gravity * h)
     pos, p = d["x"], d["pressure"]
     tol, band = 0.5 * rho_c * gravity * h, h
-    out["lowest_free_tol0.5_band1"] = lowest_free_contact_drop(pos, p, poly, (x, z), 1.0, bed_depth, band, tol)
+    out["lowest_free_tol0.5_band1"] = rear_contact_drop(
+        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, rule="lowest_free")
     out["loaded_below_surface_tol0.5_band1"] = rear_contact_drop(
         pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, below_surface_only=True)
     reach = float(np.max(np.hypot(poly[:, 0] - x, poly[:, 1] - z)))

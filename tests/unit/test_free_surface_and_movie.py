@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 from intrusim.analysis.free_surface import (
-    lowest_free_contact_drop,
     polygon_signed_distance,
     rear_contact_drop,
     wake_drop,
@@ -74,9 +73,12 @@ def test_lowest_free_contact_finds_the_wake_not_the_surface():
     wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
     pos, p = synthetic_bed(0.01)
     h = 0.004
-    got = lowest_free_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h)
+    got = rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h,
+                            rule="lowest_free")
     assert got > 0.04  # deeper than the 1 cm drop: near the wheel's bottom (0.06 m below the surface)
     assert got == pytest.approx(0.06, abs=3 * h)
+    with pytest.raises(InputError, match="rule"):
+        rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=h, pressure_tol=1.0, rule="lowest")
 
 
 def test_wake_drop_strip_behind_the_rear():

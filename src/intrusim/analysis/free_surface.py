@@ -59,6 +59,7 @@ def rear_contact_drop(
     band: float,
     pressure_tol: float,
     below_surface_only: bool = False,
+    rule: str = "highest_loaded",
 ) -> float:
     """Drop dh (m) of the rear free surface where it meets the wheel; NaN if no loaded rear contact.
 
@@ -75,35 +76,33 @@ def rear_contact_drop(
         rho g h / 2 for grid spacing h).
     below_surface_only : count only contact particles below ``surface_z`` (grains carried up
         the wheel's rear, loaded by their own weight, would otherwise give dh < 0).
+    rule : "highest_loaded" (the measurement used: the highest rear contact particle whose
+        pressure exceeds ``pressure_tol``) or "lowest_free" (the paper's words read literally: the
+        lowest rear contact particle whose pressure is at most ``pressure_tol``; this also finds the
+        loosened, pressure-free wake under the wheel).
     """
-    pos, p, tol = _checked(positions, pressure, centre, forward, band, pressure_tol)
+    if rule not in ("highest_loaded", "lowest_free"):
+        raise InputError(f"rule must be 'highest_loaded' or 'lowest_free', got {rule!r}")
+    pos = finite_array("positions", positions, (2,))
+    p = finite_array("pressure", pressure)
+    if len(p) != len(pos):
+        raise InputError("positions and pressure must have the same length")
+    band = positive("band", band)
+    tol = positive("pressure_tol", pressure_tol)
+    finite("centre x", centre[0])
+    finite("centre z", centre[1])
+    if forward not in (1.0, -1.0, 1, -1):
+        raise InputError(f"forward must be +1 or -1, got {forward!r}")
     idx = rear_contact_indices(pos, polygon_world, centre, forward, band)
-    loaded = idx[p[idx] > tol]
     if below_surface_only:
-        loaded = loaded[pos[loaded, 1] < surface_z]
+        idx = idx[pos[idx, 1] < surface_z]
+    if rule == "lowest_free":
+        free = idx[p[idx] <= tol]
+        return float(surface_z - pos[free, 1].min()) if len(free) else float("nan")
+    loaded = idx[p[idx] > tol]
     if len(loaded) == 0:  # nothing behind the wheel pushes back: no rear free surface to measure
         return float("nan")
     return float(surface_z - pos[loaded, 1].max())
-
-
-def lowest_free_contact_drop(
-    positions: np.ndarray,
-    pressure: np.ndarray,
-    polygon_world: np.ndarray,
-    centre: tuple[float, float],
-    forward: float,
-    surface_z: float,
-    band: float,
-    pressure_tol: float,
-) -> float:
-    """The paper's words read literally: depth (m) below ``surface_z`` of the lowest rear contact
-    particle whose pressure is at most ``pressure_tol``; NaN if none. This also finds the loosened,
-    pressure-free wake under the wheel, which is why :func:`rear_contact_drop` is the measurement
-    used (arguments as there)."""
-    pos, p, tol = _checked(positions, pressure, centre, forward, band, pressure_tol)
-    idx = rear_contact_indices(pos, polygon_world, centre, forward, band)
-    free = idx[p[idx] <= tol]
-    return float(surface_z - pos[free, 1].min()) if len(free) else float("nan")
 
 
 def wake_drop(positions: np.ndarray, rear_x: float, forward: float, surface_z: float, width: tuple[float, float]) -> float:
@@ -116,18 +115,3 @@ def wake_drop(positions: np.ndarray, rear_x: float, forward: float, surface_z: f
         raise InputError(f"width must be (near, far) with 0 <= near < far, got {width!r}")
     strip = (behind > near) & (behind < far)
     return float(surface_z - pos[strip, 1].max()) if strip.any() else float("nan")
-
-
-def _checked(positions, pressure, centre, forward, band, pressure_tol):
-    """Validated (positions, pressure, tol) of a rear-contact measurement."""
-    pos = finite_array("positions", positions, (2,))
-    p = finite_array("pressure", pressure)
-    if len(p) != len(pos):
-        raise InputError("positions and pressure must have the same length")
-    positive("band", band)
-    tol = positive("pressure_tol", pressure_tol)
-    finite("centre x", centre[0])
-    finite("centre z", centre[1])
-    if forward not in (1.0, -1.0, 1, -1):
-        raise InputError(f"forward must be +1 or -1, got {forward!r}")
-    return pos, p, tol
