@@ -133,7 +133,8 @@ def time_numpy_step(solver, rounds: int = 4) -> float:
 
     state = {k: np.asarray(a, np.float64) for k, a in solver.particles.to_numpy().items()}
     args = (solver.h, solver.grid.pad, solver.grid.shape, solver.cfg.domain.size[0], solver.dt,
-            solver.gravity, solver.material.params, tuple(zip(solver.walls.kinds, solver.walls.mus)))
+            solver.gravity, solver.material.params, tuple(zip(solver.walls.kinds, solver.walls.mus)),
+            solver.cfg.material.rho_floor)
     best = np.inf
     for _ in range(rounds):
         t0 = time.perf_counter()

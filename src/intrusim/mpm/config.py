@@ -27,6 +27,16 @@ class MaterialConfig(_Model):
     mu_s: float = Field(0.56, ge=0, description="internal friction coefficient tau/P at yield")
     youngs_modulus: float = Field(1.0e6, gt=0, description="numerical elastic stiffness E, Pa")
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson ratio nu")
+    rho_floor_fraction: float = Field(
+        0.1, gt=0, lt=1,
+        description="lowest density a point dilutes to, / rho_c (a point alone in flight keeps its APIC "
+        "velocity gradient, so without a floor its volume grows exponentially until it overflows)",
+    )
+
+    @property
+    def rho_floor(self) -> float:
+        """Lowest point density, kg/m^3: rho_floor_fraction rho_c."""
+        return self.rho_floor_fraction * self.rho_c
 
     @property
     def shear_modulus(self) -> float:
@@ -236,6 +246,9 @@ class MPMConfig(_Model):
         for r in self.bed.rectangles:
             if r.x0 < 0 or r.z0 < 0 or r.x1 > lx or r.z1 > lz:
                 raise ValueError(f"bed.rectangles: {r} lies outside the domain {lx} x {lz}")
+        if self.bed.density_ratio < self.material.rho_floor_fraction:
+            raise ValueError(f"bed.density_ratio {self.bed.density_ratio} is below material.rho_floor_fraction "
+                             f"{self.material.rho_floor_fraction}: points would be compacted to the floor at once")
         return self
 
     @classmethod

@@ -35,7 +35,7 @@ def _wall(v: np.ndarray, n: np.ndarray, kind: int, mu: float) -> np.ndarray:
 
 def numpy_step(state: dict[str, np.ndarray], h: float, pad: int, shape: tuple[int, int],
                lx: float, dt: float, gravity: tuple[float, float], prm: tuple[float, ...],
-               walls: tuple[tuple[int, float], ...]) -> None:
+               walls: tuple[tuple[int, float], ...], rho_floor: float) -> None:
     """Advance ``state`` (dict of particle arrays as in :data:`particles.FIELDS`) by dt in place.
 
     Parameters
@@ -43,6 +43,7 @@ def numpy_step(state: dict[str, np.ndarray], h: float, pad: int, shape: tuple[in
     h : grid spacing, m. pad : padding cells. shape : grid node counts.
     lx : domain width, m. dt : s. gravity : m/s^2. prm : material parameters (G, lam, mu_s, rho_c).
     walls : ((kind, mu) for left, right, floor) with kind codes of :data:`WALL_CODES`.
+    rho_floor : lowest point density, kg/m^3 (the volume stops growing at m / rho_floor).
     """
     x, v, C = state["x"], state["v"], state["C"]
     mass, vol, sigma = state["mass"], state["vol"], state["sigma"]
@@ -84,7 +85,7 @@ def numpy_step(state: dict[str, np.ndarray], h: float, pad: int, shape: tuple[in
     state["v"] = new_v
     state["C"] = new_C
     state["x"] = x + dt * new_v
-    state["vol"] = vol * np.exp(dt * (new_C[:, 0, 0] + new_C[:, 1, 1]))
+    state["vol"] = np.minimum(vol * np.exp(dt * (new_C[:, 0, 0] + new_C[:, 1, 1])), mass / rho_floor)
     sig, syy, dgamma = drucker_prager_update_numpy(
         sigma, state["s_yy"], new_C, mass / state["vol"], dt, prm
     )

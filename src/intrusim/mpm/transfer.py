@@ -176,6 +176,10 @@ def g2p_kernel(stress_update):
 
     The stages are fused in one pass over the points to read and write each point once:
     G2P (velocity, position, velocity gradient), density v_p *= exp(dt tr L), stress update.
+    The volume stops growing at m_p / rho_floor: a point alone in its stencil gets back its own
+    affine velocity field from the grid, so in flight it keeps the velocity gradient it left the
+    bed with, and exp(dt tr L) would grow without bound (float overflow, then NaN; seen at 150 RPM
+    on the runner, docs/mpm.md).
     """
     if stress_update in _G2P_KERNELS:
         return _G2P_KERNELS[stress_update]
@@ -185,7 +189,7 @@ def g2p_kernel(stress_update):
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float),
+        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float), rho_floor: float,
     ):
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
         for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
@@ -193,7 +197,7 @@ def g2p_kernel(stress_update):
             v[p] = new_v
             C[p] = L
             x[p] += dt * new_v
-            vol[p] *= exp_near_zero(dt * L.trace())  # v_p *= exp(dt tr D)
+            vol[p] = ti.min(vol[p] * exp_near_zero(dt * L.trace()), mass[p] / rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
             sig, syy, dgamma = stress_update(sigma[p], s_yy[p], L, mass[p] / vol[p], dt, prm)
             sigma[p] = sig
             s_yy[p] = syy
