@@ -115,7 +115,7 @@ class Solver:
         launches += [b.contact.launch(g, dt, f"b{k}_") for k, b in enumerate(self.intruders)]  # 3. bodies
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
-            g.v, g.h, g.pad, dt, self.material.params, self.cfg.material.rho_floor,
+            g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
         )))
         return launches
 

@@ -189,7 +189,7 @@ def g2p_kernel(stress_update):
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float), rho_floor: float,
+        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float), inv_rho_floor: float,
     ):
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
         for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
@@ -197,7 +197,7 @@ def g2p_kernel(stress_update):
             v[p] = new_v
             C[p] = L
             x[p] += dt * new_v
-            vol[p] = ti.min(vol[p] * exp_near_zero(dt * L.trace()), mass[p] / rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
+            vol[p] = ti.min(vol[p] * exp_near_zero(dt * L.trace()), mass[p] * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
             sig, syy, dgamma = stress_update(sigma[p], s_yy[p], L, mass[p] / vol[p], dt, prm)
             sigma[p] = sig
             s_yy[p] = syy
