@@ -70,13 +70,15 @@ def steady(
                 last[0] = d["t"]
                 typer.echo(f"  t = {d['t']:.2f} s  x = {d['x']:.3f} m  vx = {d['vx']:.3f} m/s  wall {d['wall']:.0f} s")
 
-        from intrusim.scenarios.mpm_locomotion import run_mpm_steady
+        from intrusim.scenarios.mpm_locomotion import run_mpm_steady, write_result
 
         run_dir = None
         if out is not None:
             run_dir = Path(out) / f"{case.scenario.name}_{omega_rpm:g}rpm"
             run_dir.mkdir(parents=True, exist_ok=True)
         st = run_mpm_steady(case.scenario, case.mpm, omega_rpm, run_dir, progress)
+        if run_dir is not None:  # finished: a sweep or figure on this folder reuses it
+            write_result(run_dir, st)
     except (InputError, ValueError) as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None

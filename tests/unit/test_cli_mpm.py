@@ -72,3 +72,16 @@ def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
     assert short.mpm.h == pytest.approx(0.0025) and short.mpm.cells == (400, round(full.mpm.domain[1] / 0.0025))
     r = runner.invoke(app, ["mpm", "steady", "--scenario", "runner", "--length", "0.1"])
     assert r.exit_code == 2 and "length must exceed" in r.output
+
+
+def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it(tmp_path):
+    """`mpm steady --out` writes result.json (a sweep on that folder reuses the run); the same
+    folder with another configuration is refused (exit 2) and the finished run is left as it was."""
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--threads", "1"])
+    assert r.exit_code == 0, r.output
+    run_dir = tmp_path / "grousered_wheel_60rpm"
+    assert (run_dir / "result.json").exists()
+    before = {p.name: p.read_bytes() for p in run_dir.iterdir()}
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"])
+    assert r.exit_code == 2 and "another configuration (differs in contact_band_cells)" in r.output.replace("\n", " ")
+    assert {p.name: p.read_bytes() for p in run_dir.iterdir()} == before

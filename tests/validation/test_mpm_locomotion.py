@@ -11,7 +11,7 @@ import pytest
 from intrusim._checks import InputError
 from intrusim.analysis.sweep import sweep_omega
 from intrusim.scenarios import four_flap_runner_scenario, grousered_wheel_scenario
-from intrusim.scenarios.mpm_locomotion import MPMLocomotion, mpm_config, quick_settings, run_mpm_steady
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, mpm_config, quick_settings, run_mpm_steady, write_result
 
 
 @pytest.fixture(scope="module")
@@ -88,7 +88,19 @@ def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_ru
     for key in ("velocity", "sinkage", "slip", "surface_drop", "surface_drop_std"):
         assert getattr(resumed, key) == pytest.approx(getattr(full, key), rel=1e-6, abs=1e-9), key
     assert len(resumed.meta["fields"]) == len(full.meta["fields"]) == s.keep_fields
-    # another configuration on the same folder does not take that checkpoint: it starts from 0
-    seen.clear()
-    run_mpm_steady(sc, s.model_copy(update=dict(t_max=0.6)), 30.0, tmp_path / "killed", progress=seen.append)
-    assert seen[0]["t"] == pytest.approx(0.05, abs=1e-3)
+    # another configuration on the same folder is refused, naming the difference, and the run's
+    # files are left as they were (it used to delete the checkpoint and overwrite the time series)
+    before = {p.name: p.read_bytes() for p in (tmp_path / "killed").iterdir()}
+    for other in (s.model_copy(update=dict(t_max=0.6)), s.model_copy(update=dict(contact_band_cells=0.0))):
+        with pytest.raises(InputError, match="another configuration.*differs in (time.t_end|contact_band_cells)"):
+            run_mpm_steady(sc, other, 30.0, tmp_path / "killed")
+    assert {p.name: p.read_bytes() for p in (tmp_path / "killed").iterdir()} == before
+    # as is a finished run of another configuration that a sweep would otherwise reuse
+    write_result(tmp_path / "killed", resumed)
+    case = MPMLocomotion(scenario=sc, mpm=s.model_copy(update=dict(t_max=0.6)), out_root=str(tmp_path))
+    (tmp_path / "killed").rename(case.run_dir(30.0))
+    with pytest.raises(InputError, match="another configuration"):
+        case.run_steady("mpm", 30.0)
+    # the same configuration in a moved folder, on another thread count, is the same run: reused
+    same = MPMLocomotion(scenario=sc, mpm=s.model_copy(update=dict(cpu_threads=1)), out_root=str(tmp_path))
+    assert same.run_steady("mpm", 30.0).velocity == pytest.approx(resumed.velocity, rel=1e-6)

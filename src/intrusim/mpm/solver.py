@@ -26,6 +26,7 @@ from .particles import Particles
 from .step_graph import Launch, StepGraph, run_direct
 from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
+from intrusim._checks import InputError
 
 STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
@@ -303,24 +304,49 @@ class Solver:
         return solver
 
     def continue_in_run_dir(self) -> bool:
-        """Load the run folder's checkpoint if its config.json holds this configuration, the thread
-        count aside (the P2G sums do not depend on it). True if loaded; a checkpoint of another
-        configuration is deleted, and the run starts afresh."""
-        import json
-        import sys
+        """Load the run folder's checkpoint if there is one; True if loaded.
 
-        ckpt = None if self.run_dir is None else self.run_dir / CHECKPOINT
-        if ckpt is None or not ckpt.exists():
+        A folder that holds a run of another configuration (its config.json differs, the thread
+        count aside: the P2G sums do not depend on it) is refused with an InputError naming the
+        differences, before anything in it is touched: going on would overwrite that run's time
+        series and delete its checkpoint."""
+        if self.run_dir is None:
             return False
-
-        def comparable(cfg: dict) -> dict:
-            return {**cfg, "backend": {k: v for k, v in cfg.get("backend", {}).items() if k != "cpu_threads"}}
-
-        config_path = self.run_dir / "config.json"
-        saved = (json.loads(config_path.read_text()).get("config") or {}) if config_path.exists() else {}
-        if comparable(saved) != comparable(self.cfg.model_dump(mode="json")):
-            ckpt.unlink()
-            print(f"{self.run_dir}: its checkpoint is of another configuration: starting afresh", file=sys.stderr)
+        refuse_other_run(self.run_dir, self.cfg)
+        ckpt = self.run_dir / CHECKPOINT
+        if not ckpt.exists():
             return False
         self.load_checkpoint(ckpt)
         return True
+
+
+def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> None:
+    """Raise InputError if ``run_dir`` holds a run (config.json) of a configuration other than
+    ``cfg``, naming the differences. The thread count (the P2G sums do not depend on it) and the
+    folder's own path (a moved folder) are not differences."""
+    import json
+
+    config_path = Path(run_dir) / "config.json"
+    if not config_path.exists():
+        return
+    saved = json.loads(config_path.read_text()).get("config") or {}
+    diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory"})
+    if diff:
+        shown = ", ".join(diff[:6]) + (f" and {len(diff) - 6} more" if len(diff) > 6 else "")
+        raise InputError(f"{run_dir} holds a run of another configuration (differs in {shown}); "
+                         "choose another output folder, or delete that one to start afresh")
+
+
+def config_differences(a: dict, b: dict, ignore: set[str] = frozenset(), prefix: str = "") -> list[str]:
+    """Dotted keys at which two nested config dicts differ (keys in ``ignore`` left out)."""
+    out = []
+    for key in sorted(set(a) | set(b)):
+        name = f"{prefix}{key}"
+        if name in ignore:
+            continue
+        va, vb = a.get(key), b.get(key)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += config_differences(va, vb, ignore, name + ".")
+        elif va != vb:
+            out.append(name)
+    return out

@@ -236,8 +236,8 @@ def write_progress(run_dir: Path, drops: list[tuple[float, float]], wall: float)
 def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[list[tuple[float, float]], list[Path], float]:
     """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
 
-    The solver state comes from its checkpoint (:meth:`Solver.continue_in_run_dir`: same
-    configuration only, else the run starts afresh); the rear surface drops and the wall time from
+    The solver state comes from its checkpoint (:meth:`Solver.continue_in_run_dir`: a folder
+    holding a run of another configuration is refused with an InputError); the rear surface drops and the wall time from
     ``progress.json``, kept up to the checkpoint's time. Kept field snapshots after the checkpoint
     are deleted (the run writes them again).
     """
@@ -247,7 +247,7 @@ def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[lis
         return [], [], 0.0
     progress_path = run_dir / PROGRESS_FILE
     if not solver.continue_in_run_dir():
-        progress_path.unlink(missing_ok=True)  # the progress of no checkpoint, or of another configuration's
+        progress_path.unlink(missing_ok=True)  # the progress of a run killed before its first checkpoint
         return [], [], 0.0
     t = solver.t + 0.5 * solver.dt
     info = json.loads(progress_path.read_text()) if progress_path.exists() else {}
@@ -276,12 +276,6 @@ def run_mpm_steady(
     s = settings
     solver = Solver(cfg)
     run_dir = None if out_dir is None else Path(out_dir)
-    if run_dir is not None:
-        import json
-
-        run_dir.mkdir(parents=True, exist_ok=True)
-        info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
-        (run_dir / "locomotion.json").write_text(json.dumps(info, indent=1))
     body = solver.intruders[0]
     outline = np.asarray(body.contact.vertices)
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
@@ -289,7 +283,14 @@ def run_mpm_steady(
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
     step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
+    # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
+    if run_dir is not None:
+        import json
+
+        run_dir.mkdir(parents=True, exist_ok=True)
+        info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
+        (run_dir / "locomotion.json").write_text(json.dumps(info, indent=1))
 
     def sample() -> None:
         """Rear surface drop (and kept particle fields) of the window at this chunk's end."""
@@ -481,7 +482,10 @@ class MPMLocomotion(Config):
         if kind != "mpm":
             raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
         out = self.run_dir(omega_rpm)
-        if out is not None and (out / "result.json").exists():  # finished before: reuse
+        if out is not None and (out / "result.json").exists():  # finished before, the same case: reuse
+            from intrusim.mpm.solver import refuse_other_run
+
+            refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out))
             return load_result(out, self.mpm, self.scenario.body)
         st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
         if out is not None:
