@@ -121,6 +121,37 @@ def sweep(
     typer.echo(f"wrote {path}")
 
 
+@mpm_app.command("collect")
+def collect(
+    folder: Path = typer.Argument(..., help="Folder of finished run folders (each with result.json)."),
+    out: Path = typer.Option(None, help="Sweep CSV to write (default FOLDER/SCENARIO_mpm_sweep.csv)."),
+) -> None:
+    """Gather finished runs (e.g. `mpm steady` runs of one case on beds of different lengths) into
+    the sweep CSV that `reproduce --mpm --runs` and `calibrate --mpm` read."""
+    import json
+
+    from intrusim.analysis.sweep import SweepResult
+    from intrusim.scenarios.mpm_locomotion import load_result
+
+    runs = sorted(folder.glob("*/result.json"))
+    names = {json.loads((r.parent / "locomotion.json").read_text())["scenario"]["name"] for r in runs
+             if (r.parent / "locomotion.json").exists()}
+    if not runs or len(names) != 1:
+        typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
+                   f"found {len(runs)} runs of {sorted(names) or 'none'}", err=True)
+        raise typer.Exit(2)
+    records = []
+    for r in runs:
+        info = json.loads((r.parent / "locomotion.json").read_text())
+        st = load_result(r.parent)
+        records.append({"omega_rpm": float(info["omega_rpm"]), "ok": True, **st.summary(), "settled": bool(st.settled)})
+    records.sort(key=lambda rec: rec["omega_rpm"])
+    res = SweepResult(names.pop(), "mpm", None, records, meta={"source": str(folder)})
+    path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
+    typer.echo(res.table())
+    typer.echo(f"wrote {path}")
+
+
 @mpm_app.command("movie")
 def movie(
     run_dir: Path = typer.Argument(..., help="Run folder holding frames/ (run with --frames-every)."),

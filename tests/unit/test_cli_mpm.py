@@ -1,6 +1,7 @@
 """CLI: `intrusim mpm run CONFIG.toml` and `intrusim mpm resume RUN_DIR`."""
 
 import csv
+import json
 
 import pytest
 from typer.testing import CliRunner
@@ -85,3 +86,13 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"])
     assert r.exit_code == 2 and "another configuration (differs in contact_band_cells)" in r.output.replace("\n", " ")
     assert {p.name: p.read_bytes() for p in run_dir.iterdir()} == before
+    # `mpm collect` gathers the finished run into the sweep CSV that reproduce/calibrate read
+    from intrusim.analysis.sweep import SweepResult
+
+    r = runner.invoke(app, ["mpm", "collect", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    res = SweepResult.from_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
+    done = json.loads((run_dir / "result.json").read_text())
+    assert res.omega_rpm.tolist() == [60.0] and res.column("velocity")[0] == pytest.approx(done["velocity"])
+    r = runner.invoke(app, ["mpm", "collect", str(tmp_path / "empty")])
+    assert r.exit_code == 2 and "needs finished run folders" in r.output
