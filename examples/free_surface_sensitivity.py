@@ -99,7 +99,8 @@ def slopes(rows: list[dict], gravity: float = 9.8, wheel: str | None = None) -> 
     return out
 
 
-def plot(rows: list[dict], fits: dict[str, float], path: Path, gravity: float = 9.8) -> None:
+def plot(rows: list[dict], fits: dict[str, dict[str, float]], path: Path, gravity: float = 9.8) -> None:
+    """dh / r against r omega^2 / g per choice, one line per wheel; ``fits[wheel][choice]`` = psi slope."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -115,14 +116,16 @@ def plot(rows: list[dict], fits: dict[str, float], path: Path, gravity: float = 
             sel = sorted((r for r in rows if r["choice"] == choice and r["wheel"] == wheel), key=lambda r: r["omega_rpm"])
             x = [r["radius"] * (r["omega_rpm"] * np.pi / 30) ** 2 / gravity for r in sel]
             y = [r["dh"] / r["radius"] for r in sel]
-            label = f"{choice.replace('contact_', 'paper rule, ')}: c = {fits[choice]:.2f}" if j == 0 else None
+            slopes_txt = " / ".join(f"{fits[w][choice]:.2f}" for w in wheels)
+            label = f"{choice.replace('contact_', 'paper rule, ')}: c = {slopes_txt}" if j == 0 else None
             ax.plot(x, y, ["o-", "s--"][j % 2], ms=4, color=colour, label=label)
     xs = np.linspace(0, max(r["radius"] * (r["omega_rpm"] * np.pi / 30) ** 2 / gravity for r in rows), 10)
     ax.plot(xs, xs, "k:", label="paper: psi = x")
     ax.set_xlabel("r omega^2 / g")
     ax.set_ylabel("dh / r")
     ax.set_title("Rear surface drop, measured other ways (tol x rho_c g h, band in cells)\n"
-                 + "; ".join(f"{['o', 's'][j % 2]}: {w}" for j, w in enumerate(wheels)), fontsize=9)
+                 + "; ".join(f"{['o', 's'][j % 2]}: {w}" for j, w in enumerate(wheels))
+                 + "; c = psi slope per wheel, in that order", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -145,7 +148,7 @@ def main() -> None:
         w.writeheader()
         for r in rows:
             w.writerow({**r, "psi_slope_all_runs": fits[r["choice"]], "psi_slope_this_wheel": per_wheel[r["wheel"]][r["choice"]]})
-    plot(rows, fits, out.with_suffix(".png"))
+    plot(rows, per_wheel, out.with_suffix(".png"))
     print("\npsi(x) = c x (paper: c = 1); the runs' own choice is contact_tol0.5_band1:")
     print(f"  {'choice':34s} {'all runs':>9s} " + " ".join(f"{w:>22s}" for w in wheels))
     for choice, c in sorted(fits.items(), key=lambda kv: kv[1]):
