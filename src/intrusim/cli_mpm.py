@@ -133,9 +133,8 @@ def collect(
     from intrusim.analysis.sweep import SweepResult
     from intrusim.scenarios.mpm_locomotion import load_result
 
-    runs = sorted(folder.glob("*/result.json"))
-    names = {json.loads((r.parent / "locomotion.json").read_text())["scenario"]["name"] for r in runs
-             if (r.parent / "locomotion.json").exists()}
+    runs = sorted(r for r in folder.glob("*/result.json") if (r.parent / "locomotion.json").exists())
+    names = {json.loads((r.parent / "locomotion.json").read_text())["scenario"]["name"] for r in runs}
     if not runs or len(names) != 1:
         typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
                    f"found {len(runs)} runs of {sorted(names) or 'none'}", err=True)

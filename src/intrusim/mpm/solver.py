@@ -306,10 +306,9 @@ class Solver:
     def continue_in_run_dir(self) -> bool:
         """Load the run folder's checkpoint if there is one; True if loaded.
 
-        A folder that holds a run of another configuration (its config.json differs, the thread
-        count aside: the P2G sums do not depend on it) is refused with an InputError naming the
-        differences, before anything in it is touched: going on would overwrite that run's time
-        series and delete its checkpoint."""
+        A folder that holds a run of another configuration (:func:`refuse_other_run`) is refused
+        with an InputError naming the differences, before anything in it is touched: going on
+        would overwrite that run's time series and its checkpoint."""
         if self.run_dir is None:
             return False
         refuse_other_run(self.run_dir, self.cfg)
