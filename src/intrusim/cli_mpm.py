@@ -130,21 +130,18 @@ def collect(
     the sweep CSV that `reproduce --mpm --runs` and `calibrate --mpm` read."""
     import json
 
-    from intrusim.analysis.sweep import SweepResult
+    from intrusim.analysis.sweep import SweepResult, steady_record
     from intrusim.scenarios.mpm_locomotion import load_result
 
-    runs = sorted(r for r in folder.glob("*/result.json") if (r.parent / "locomotion.json").exists())
-    names = {json.loads((r.parent / "locomotion.json").read_text())["scenario"]["name"] for r in runs}
-    if not runs or len(names) != 1:
+    infos = {r.parent: json.loads((r.parent / "locomotion.json").read_text())
+             for r in sorted(folder.glob("*/result.json")) if (r.parent / "locomotion.json").exists()}
+    names = {info["scenario"]["name"] for info in infos.values()}
+    if not infos or len(names) != 1:
         typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
-                   f"found {len(runs)} runs of {sorted(names) or 'none'}", err=True)
+                   f"found {len(infos)} runs of {sorted(names) or 'none'}", err=True)
         raise typer.Exit(2)
-    records = []
-    for r in runs:
-        info = json.loads((r.parent / "locomotion.json").read_text())
-        st = load_result(r.parent)
-        records.append({"omega_rpm": float(info["omega_rpm"]), "ok": True, **st.summary(), "settled": bool(st.settled)})
-    records.sort(key=lambda rec: rec["omega_rpm"])
+    records = sorted((steady_record(float(info["omega_rpm"]), load_result(run)) for run, info in infos.items()),
+                     key=lambda rec: rec["omega_rpm"])
     res = SweepResult(names.pop(), "mpm", None, records, meta={"source": str(folder)})
     path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
     typer.echo(res.table())

@@ -34,10 +34,12 @@ def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -
     except Exception as err:  # noqa: BLE001 - one bad point must not sink the sweep
         rec["error"] = f"{type(err).__name__}: {err}"
         return rec
-    rec.update(st.summary())
-    rec["settled"] = bool(st.settled)
-    rec["ok"] = True
-    return rec
+    return steady_record(omega_rpm, st)
+
+
+def steady_record(omega_rpm: float, st: Any) -> dict[str, Any]:
+    """A finished steady state (its ``summary()`` and ``settled``) as a flat sweep record."""
+    return {"omega_rpm": omega_rpm, "ok": True, "error": "", **st.summary(), "settled": bool(st.settled)}
 
 
 @dataclass(frozen=True)
