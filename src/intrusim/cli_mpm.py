@@ -14,7 +14,8 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
-          cell_size: float | None = None, contact_band: float | None = None, length: float | None = None):
+          cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
+          t_max: float | None = None):
     from intrusim.scenarios import LOCOMOTORS
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -37,6 +38,10 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
         if not contact_band >= 0:
             raise InputError(f"contact_band must be >= 0 cells, got {contact_band!r}")
         settings = settings.model_copy(update=dict(contact_band_cells=float(contact_band)))
+    if t_max is not None:
+        if not t_max > settings.ramp_time + settings.settle_time:
+            raise InputError(f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}")
+        settings = settings.model_copy(update=dict(t_max=float(t_max)))
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
@@ -57,11 +62,12 @@ def steady(
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
     contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
     length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
+    t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -102,6 +108,7 @@ def sweep(
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
     contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
     length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
+    t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -110,7 +117,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:
@@ -192,6 +199,10 @@ def _run_solver(solver, t_end: float) -> None:
         raise typer.Exit(1) from None
     finally:
         bar.close()
+    if solver.run_dir is not None:  # the end state: a longer run (resume --t-end, or run with a later t_end) goes on from here
+        from intrusim.mpm.solver import CHECKPOINT
+
+        solver.save_checkpoint(solver.run_dir / CHECKPOINT)
     last = solver.rows[-1]
     typer.echo(f"done: t = {solver.t:.4g} s, {solver.step_count} steps of {solver.dt:.3g} s, {solver.particles.n} points")
     if solver.run_dir is not None:
@@ -206,7 +217,10 @@ def run(
     config: Path = typer.Argument(..., help="MPM configuration, TOML (any MPMConfig field; see docs/mpm.md)."),
     out: Path = typer.Option(None, help="Run folder (overrides output.directory of the file)."),
 ) -> None:
-    """Run an MPM simulation from a configuration file (validated before any compute)."""
+    """Run an MPM simulation from a configuration file (validated before any compute).
+
+    On a run folder that already holds this configuration the run goes on from its checkpoint (a
+    later t_end extends a finished run); a folder of another configuration is refused."""
     import tomllib
 
     from pydantic import ValidationError
@@ -228,7 +242,9 @@ def run(
 
     try:
         solver = Solver(cfg)
-    except ValueError as err:
+        if solver.continue_in_run_dir():
+            typer.echo(f"continuing {solver.run_dir} from its checkpoint at t = {solver.t:.4g} s (step {solver.step_count})")
+    except (InputError, ValueError) as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
     _run_solver(solver, cfg.time.t_end)
@@ -247,4 +263,6 @@ def resume(
         raise typer.Exit(2)
     solver = Solver.resume(run_dir)
     typer.echo(f"resuming {run_dir} at t = {solver.t:.4g} s (step {solver.step_count})")
+    if t_end is not None and t_end > solver.cfg.time.t_end:
+        solver.cfg.time.t_end = t_end  # config.json records the run's new end
     _run_solver(solver, t_end if t_end is not None else solver.cfg.time.t_end)

@@ -42,6 +42,50 @@ def test_run_writes_a_run_folder_and_resume_extends_it(tmp_path):
     assert "resuming" in r.output and max(_times(out)) > 0.029
 
 
+def test_run_on_its_own_folder_goes_on_a_later_end_extends_it_and_another_config_is_refused(tmp_path):
+    """`mpm run` on a folder of the same configuration continues from its checkpoint (the end state
+    of a finished run); a later t_end extends it to that time, as one uninterrupted run would; a
+    folder of another configuration is refused (exit 2) with its files left as they were."""
+    cfg = tmp_path / "tiny.toml"
+    cfg.write_text(TINY)
+    out = tmp_path / "run"
+    assert runner.invoke(app, ["mpm", "run", str(cfg), "--out", str(out)]).exit_code == 0
+    longer = tmp_path / "longer.toml"
+    longer.write_text(TINY.replace("t_end = 0.02", "t_end = 0.035"))
+    r = runner.invoke(app, ["mpm", "run", str(longer), "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "continuing" in r.output and "t = 0.02 s" in r.output  # from the end of the first run
+    whole = tmp_path / "whole"
+    assert runner.invoke(app, ["mpm", "run", str(longer), "--out", str(whole)]).exit_code == 0
+    assert _times(out) == _times(whole)
+    extended = list(csv.DictReader((out / "timeseries.csv").open()))
+    uninterrupted = list(csv.DictReader((whole / "timeseries.csv").open()))
+    for a, b in zip(extended, uninterrupted):
+        assert a["kinetic_energy"] == b["kinetic_energy"] and a["grain_mass"] == b["grain_mass"]
+    assert json.loads((out / "config.json").read_text())["config"]["time"]["t_end"] == 0.035
+    before = {q.name: q.read_bytes() for q in out.iterdir() if q.is_file()}
+    for text, key in ((TINY.replace("cells = [10, 10]", "cells = [20, 20]"), "domain.cells"),
+                      (TINY.replace("t_end = 0.02", "t_end = 0.01"), "time.t_end")):
+        other = tmp_path / "other.toml"
+        other.write_text(text)
+        r = runner.invoke(app, ["mpm", "run", str(other), "--out", str(out)])
+        assert r.exit_code == 2 and f"differs in {key}" in r.output, r.output
+    assert "not cut short" in r.output
+    assert {q.name: q.read_bytes() for q in out.iterdir() if q.is_file()} == before
+
+
+def test_resume_writes_to_the_folder_it_is_given_after_a_move(tmp_path):
+    cfg = tmp_path / "tiny.toml"
+    cfg.write_text(TINY)
+    first = tmp_path / "first"
+    assert runner.invoke(app, ["mpm", "run", str(cfg), "--out", str(first)]).exit_code == 0
+    moved = tmp_path / "moved"
+    first.rename(moved)
+    r = runner.invoke(app, ["mpm", "resume", str(moved), "--t-end", "0.03"])
+    assert r.exit_code == 0, r.output
+    assert not first.exists() and max(_times(moved)) > 0.029
+
+
 def test_bad_config_fails_before_compute_with_the_field_named(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(TINY.replace("cells = [10, 10]", "cells = [10, 10]\nbogus = 3"))

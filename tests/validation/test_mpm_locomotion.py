@@ -104,3 +104,25 @@ def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_ru
     # the same configuration in a moved folder, on another thread count, is the same run: reused
     same = MPMLocomotion(scenario=sc, mpm=s.model_copy(update=dict(cpu_threads=1)), out_root=str(tmp_path))
     assert same.run_steady("mpm", 30.0).velocity == pytest.approx(resumed.velocity, rel=1e-6)
+
+
+def test_finished_run_with_a_later_t_max_goes_on_from_its_end_and_matches_a_run_that_long(tmp_path, capsys):
+    """A run not settled by t_max can be made longer: the same case with a later t_max on its
+    folder goes on from the end state (not from t = 0) and gives the numbers of a run made that
+    long from the start; the longer run then stands in the folder, and the shorter one is refused."""
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3))  # window from 0.4 s
+    full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
+    short = MPMLocomotion(scenario=sc, mpm=s.model_copy(update=dict(t_max=0.6)), out_root=str(tmp_path / "ext"))
+    first = short.run_steady("mpm", 30.0)
+    assert first.window[1] == pytest.approx(0.6, abs=0.011)  # the last record (every 0.01 s)
+    capsys.readouterr()
+    longer = MPMLocomotion(scenario=sc, mpm=s, out_root=str(tmp_path / "ext"))
+    extended = longer.run_steady("mpm", 30.0)
+    assert "resumed at t = 0.600 s" in capsys.readouterr().err
+    assert extended.steps == full.steps
+    for key in ("velocity", "sinkage", "slip", "surface_drop", "surface_drop_std"):
+        assert getattr(extended, key) == pytest.approx(getattr(full, key), rel=1e-6, abs=1e-9), key
+    assert longer.run_steady("mpm", 30.0).velocity == pytest.approx(extended.velocity, rel=1e-12)  # reused
+    with pytest.raises(InputError, match="not cut short"):
+        short.run_steady("mpm", 30.0)

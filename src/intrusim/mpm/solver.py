@@ -297,7 +297,9 @@ class Solver:
 
         run_dir = Path(run_dir)
         payload = json.loads((run_dir / "config.json").read_text())
-        solver = cls(MPMConfig.model_validate(payload["config"]))
+        cfg = MPMConfig.model_validate(payload["config"])
+        cfg.output.directory = str(run_dir)  # this folder, wherever the run was first written
+        solver = cls(cfg)
         ckpt = run_dir / CHECKPOINT
         if ckpt.exists():
             solver.load_checkpoint(ckpt)
@@ -319,21 +321,30 @@ class Solver:
         return True
 
 
-def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> None:
+def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
     """Raise InputError if ``run_dir`` holds a run (config.json) of a configuration other than
     ``cfg``, naming the differences. The thread count (the P2G sums do not depend on it) and the
-    folder's own path (a moved folder) are not differences."""
+    folder's own path (a moved folder) are not differences, and neither is a later end time: the
+    same run, longer, goes on from the folder's checkpoint (nothing before the old end depends on
+    the end time, so it equals a run made that long from the start). Returns True if the folder
+    holds such a shorter run, which this one extends."""
     import json
 
     config_path = Path(run_dir) / "config.json"
     if not config_path.exists():
-        return
+        return False
     saved = json.loads(config_path.read_text()).get("config") or {}
     diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory"})
+    saved_end = (saved.get("time") or {}).get("t_end")
+    extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
+    if extends:
+        diff.remove("time.t_end")
     if diff:
         shown = ", ".join(diff[:6]) + (f" and {len(diff) - 6} more" if len(diff) > 6 else "")
-        raise InputError(f"{run_dir} holds a run of another configuration (differs in {shown}); "
+        hint = " (a run can be extended to a later end time, not cut short)" if "time.t_end" in diff else ""
+        raise InputError(f"{run_dir} holds a run of another configuration (differs in {shown}){hint}; "
                          "choose another output folder, or delete that one to start afresh")
+    return extends
 
 
 def config_differences(a: dict, b: dict, ignore: set[str] = frozenset(), prefix: str = "") -> list[str]:

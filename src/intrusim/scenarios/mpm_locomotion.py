@@ -336,6 +336,10 @@ def run_mpm_steady(
             sample()
         if run_dir is not None:
             write_progress(run_dir, drops, time.perf_counter() - wall0)
+    if run_dir is not None:  # a longer run on this folder (a later t_max) goes on from here
+        from intrusim.mpm.solver import CHECKPOINT
+
+        solver.save_checkpoint(run_dir / CHECKPOINT)
     wall = time.perf_counter() - wall0
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
@@ -482,11 +486,11 @@ class MPMLocomotion(Config):
         if kind != "mpm":
             raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
         out = self.run_dir(omega_rpm)
-        if out is not None and (out / "result.json").exists():  # finished before, the same case: reuse
+        if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
             from intrusim.mpm.solver import refuse_other_run
 
-            refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out))
-            return load_result(out, self.mpm, self.scenario.body)
+            if not refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out)):
+                return load_result(out, self.mpm, self.scenario.body)
         st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
         if out is not None:
             write_result(out, st)
