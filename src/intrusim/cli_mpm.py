@@ -132,6 +132,8 @@ def sweep(
 def collect(
     folder: Path = typer.Argument(..., help="Folder of finished run folders (each with result.json)."),
     out: Path = typer.Option(None, help="Sweep CSV to write (default FOLDER/SCENARIO_mpm_sweep.csv)."),
+    window_from: float = typer.Option(None, "--from", help="Average from this time on, s (default: ramp + settle time; "
+                                      "a runner: whole revolutions from the end). For runs that settled late."),
 ) -> None:
     """Gather finished runs (e.g. `mpm steady` runs of one case on beds of different lengths) into
     the sweep CSV that `reproduce --mpm --runs` and `calibrate --mpm` read."""
@@ -147,8 +149,12 @@ def collect(
         typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
                    f"found {len(infos)} runs of {sorted(names) or 'none'}", err=True)
         raise typer.Exit(2)
-    records = sorted((steady_record(float(info["omega_rpm"]), load_result(run)) for run, info in infos.items()),
-                     key=lambda rec: rec["omega_rpm"])
+    try:
+        records = sorted((steady_record(float(info["omega_rpm"]), load_result(run, t_start=window_from))
+                          for run, info in infos.items()), key=lambda rec: rec["omega_rpm"])
+    except InputError as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
     res = SweepResult(names.pop(), "mpm", None, records, meta={"source": str(folder)})
     path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
     typer.echo(res.table())

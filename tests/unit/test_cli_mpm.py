@@ -138,5 +138,18 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     res = SweepResult.from_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
     done = json.loads((run_dir / "result.json").read_text())
     assert res.omega_rpm.tolist() == [60.0] and res.column("velocity")[0] == pytest.approx(done["velocity"])
+    assert res.column("window_start")[0] == pytest.approx(done["window"][0])
+    # a later window (a run that settled late): averages from --from on, dh from the run's own per-chunk drops
+    late = tmp_path / "late.csv"
+    r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--from", "0.9", "--out", str(late)])
+    assert r.exit_code == 0, r.output
+    rec = SweepResult.from_csv(late).records[0]
+    rows = list(csv.DictReader((run_dir / "timeseries.csv").open()))
+    vx = [float(row["vx"]) for row in rows if float(row["time"]) > 0.9]
+    assert rec["window_start"] > 0.9 and rec["velocity"] == pytest.approx(sum(vx) / len(vx), rel=1e-12)
+    drops = [d for t, d in json.loads((run_dir / "progress.json").read_text())["drops"] if t > 0.9 and d == d]  # measured ones
+    assert rec["surface_drop"] == pytest.approx(sum(drops) / len(drops), rel=1e-12)
+    r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--from", "5", "--out", str(late)])
+    assert r.exit_code == 2 and "before the averaging window starts" in r.output
     r = runner.invoke(app, ["mpm", "collect", str(tmp_path / "empty")])
     assert r.exit_code == 2 and "needs finished run folders" in r.output

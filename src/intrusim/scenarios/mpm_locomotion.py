@@ -151,6 +151,7 @@ class MPMSteadyState:
             "velocity_std": self.velocity_std, "sinkage_std": self.sinkage_std, "drift": self.drift,
             "surface_drop": self.surface_drop, "surface_drop_std": self.surface_drop_std,
             "wall_time": self.wall_time, "steps": float(self.steps), "settled": float(self.settled),
+            "window_start": self.window[0], "window_end": self.window[1],
         }  # fmt: skip
 
 
@@ -401,14 +402,18 @@ def fields_drop(path: str | Path, bed_depth: float, rho_c: float, gravity: float
 
 
 def summarise_run(
-    run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel", t_end: float | None = None
+    run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel", t_end: float | None = None,
+    t_start: float | None = None,
 ) -> MPMSteadyState:
     """Recompute the steady state of a finished (or interrupted) run folder.
 
     Reads ``timeseries.csv`` and ``config.json`` (written by the solver), the settings from
     ``locomotion.json`` when present (else ``settings`` or :func:`paper_settings` of ``body``), and
     the rear surface drop from the saved ``fields_*.npz`` snapshots. ``t_end``: average only up to
-    this time (one window for runs of different lengths).
+    this time (one window for runs of different lengths). ``t_start``: the window starts here
+    instead of at ramp_time + settle_time (a run that settled late; for a runner, whole
+    revolutions from the end within it); the rear surface drop is then the mean of the run's own
+    measurements after ``t_start`` (``progress.json``, one per 0.05 s chunk) where the folder has them.
     """
     import csv
     import json
@@ -431,10 +436,15 @@ def summarise_run(
         outline = outline[::-1]
     gravity = -float(cfg["gravity"][1])
     h = float(cfg["domain"]["size"][0]) / int(cfg["domain"]["cells"][0])
-    drops = [fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))]
+    progress_path = run_dir / PROGRESS_FILE
+    if t_start is not None and progress_path.exists():
+        drops = [(float(a), float(b)) for a, b in json.loads(progress_path.read_text()).get("drops", [])]
+        drops = [d for d in drops if t_end is None or d[0] <= t_end + 1e-9]
+    else:
+        drops = [fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))]
+    t_avg = settings.ramp_time + settings.settle_time if t_start is None else float(t_start)
     return steady_from_series(
-        series, outline, settings.bed_depth, settings.ramp_time + settings.settle_time, body == "runner", drops,
-        meta={"run_dir": str(run_dir)},
+        series, outline, settings.bed_depth, t_avg, body == "runner", drops, meta={"run_dir": str(run_dir)},
     )  # fmt: skip
 
 
@@ -442,23 +452,27 @@ def write_result(run_dir: str | Path, st: MPMSteadyState) -> Path:
     """Mark a run folder finished: ``result.json`` holds the steady-state summary."""
     import json
 
+    from intrusim.mpm.io import atomic_write_bytes
+
     path = Path(run_dir) / "result.json"
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str))
-    tmp.replace(path)
+    atomic_write_bytes(path, json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str).encode())
     return path
 
 
-def load_result(run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel") -> MPMSteadyState:
+def load_result(
+    run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel", t_start: float | None = None
+) -> MPMSteadyState:
     """A finished run: time series from the folder, the scalars measured during the run from
     ``result.json`` (the rear surface drop is averaged over every snapshot of the window there,
-    over the few kept ``fields_*.npz`` in :func:`summarise_run`)."""
+    over the few kept ``fields_*.npz`` in :func:`summarise_run`). ``t_start``: another window
+    start (see :func:`summarise_run`), whose rear surface drop comes from ``progress.json``."""
     import json
     from dataclasses import replace
 
-    st = summarise_run(run_dir, settings, body)
+    st = summarise_run(run_dir, settings, body, t_start=t_start)
     res = json.loads((Path(run_dir) / "result.json").read_text())
-    keep = {k: res[k] for k in ("surface_drop", "surface_drop_std", "wall_time") if k in res}
+    measured = ("wall_time",) if t_start is not None else ("surface_drop", "surface_drop_std", "wall_time")
+    keep = {k: res[k] for k in measured if k in res}
     return replace(st, steps=int(res.get("steps", 0)), **keep)
 
 
