@@ -119,6 +119,14 @@ def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
     assert r.exit_code == 2 and "length must exceed" in r.output
 
 
+def test_t_max_reaches_the_run_settings_and_one_inside_the_settling_time_is_refused():
+    from intrusim.cli_mpm import _case
+
+    assert _case("wheel", True, None, None, None, t_max=3.0).mpm.t_max == 3.0
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--t-max", "0.5"])
+    assert r.exit_code == 2 and "t_max must exceed ramp_time + settle_time" in r.output
+
+
 def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it(tmp_path):
     """`mpm steady --out` writes result.json (a sweep on that folder reuses the run); the same
     folder with another configuration is refused (exit 2) and the finished run is left as it was."""
