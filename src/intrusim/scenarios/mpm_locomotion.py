@@ -234,6 +234,16 @@ def write_progress(run_dir: Path, drops: list[tuple[float, float]], wall: float)
     atomic_write_bytes(run_dir / PROGRESS_FILE, json.dumps({"drops": drops, "wall_time": wall}).encode())
 
 
+def read_progress(run_dir: Path) -> tuple[list[tuple[float, float]], float]:
+    """(rear surface drops (t, dh) measured so far, wall time so far) from ``progress.json``;
+    ([], 0) if the folder has none."""
+    import json
+
+    path = Path(run_dir) / PROGRESS_FILE
+    info = json.loads(path.read_text()) if path.exists() else {}
+    return [(float(a), float(b)) for a, b in info.get("drops", [])], float(info.get("wall_time", 0.0))
+
+
 def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[list[tuple[float, float]], list[Path], float]:
     """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
 
@@ -242,17 +252,14 @@ def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[lis
     ``progress.json``, kept up to the checkpoint's time. Kept field snapshots after the checkpoint
     are deleted (the run writes them again).
     """
-    import json
-
     if run_dir is None:
         return [], [], 0.0
-    progress_path = run_dir / PROGRESS_FILE
     if not solver.continue_in_run_dir():
-        progress_path.unlink(missing_ok=True)  # the progress of a run killed before its first checkpoint
+        (run_dir / PROGRESS_FILE).unlink(missing_ok=True)  # the progress of a run killed before its first checkpoint
         return [], [], 0.0
     t = solver.t + 0.5 * solver.dt
-    info = json.loads(progress_path.read_text()) if progress_path.exists() else {}
-    drops = [(float(a), float(b)) for a, b in info.get("drops", []) if a <= t]
+    drops, wall = read_progress(run_dir)
+    drops = [(a, b) for a, b in drops if a <= t]
     kept = []
     for path in sorted(run_dir.glob("fields_*.npz")):
         if int(path.stem.split("_")[1]) > solver.step_count:
@@ -260,7 +267,7 @@ def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[lis
         else:
             kept.append(path)
     print(f"{run_dir}: resumed at t = {solver.t:.3f} s (step {solver.step_count})", file=sys.stderr)
-    return drops, kept[-keep_fields:] if keep_fields else [], float(info.get("wall_time", 0.0))
+    return drops, kept[-keep_fields:] if keep_fields else [], wall
 
 
 def run_mpm_steady(
@@ -436,10 +443,8 @@ def summarise_run(
         outline = outline[::-1]
     gravity = -float(cfg["gravity"][1])
     h = float(cfg["domain"]["size"][0]) / int(cfg["domain"]["cells"][0])
-    progress_path = run_dir / PROGRESS_FILE
-    if t_start is not None and progress_path.exists():
-        drops = [(float(a), float(b)) for a, b in json.loads(progress_path.read_text()).get("drops", [])]
-        drops = [d for d in drops if t_end is None or d[0] <= t_end + 1e-9]
+    if t_start is not None and (run_dir / PROGRESS_FILE).exists():
+        drops = [d for d in read_progress(run_dir)[0] if t_end is None or d[0] <= t_end + 1e-9]
     else:
         drops = [fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))]
     t_avg = settings.ramp_time + settings.settle_time if t_start is None else float(t_start)
