@@ -206,9 +206,7 @@ def _run_solver(solver, t_end: float) -> None:
     finally:
         bar.close()
     if solver.run_dir is not None:  # the end state: a longer run (resume --t-end, or run with a later t_end) goes on from here
-        from intrusim.mpm.solver import CHECKPOINT
-
-        solver.save_checkpoint(solver.run_dir / CHECKPOINT)
+        solver.checkpoint_run_folder()
     last = solver.rows[-1]
     typer.echo(f"done: t = {solver.t:.4g} s, {solver.step_count} steps of {solver.dt:.3g} s, {solver.particles.n} points")
     if solver.run_dir is not None:

@@ -237,7 +237,7 @@ class Solver:
                 if snap and n % snap == 0:
                     self.write_snapshot()
                 if ckpt and n % ckpt == 0:
-                    self.save_checkpoint(self.run_dir / CHECKPOINT)
+                    self.checkpoint_run_folder()
         if self.run_dir is not None:
             mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
         return self.rows
@@ -258,6 +258,10 @@ class Solver:
             self.cfg.domain.size, log=True,
         )
         return path
+
+    def checkpoint_run_folder(self) -> None:
+        """Save the state as the run folder's checkpoint, the one a resumed or extended run goes on from."""
+        self.save_checkpoint(self.run_dir / CHECKPOINT)
 
     def save_checkpoint(self, path: Path) -> None:
         """Atomic checkpoint of everything needed to continue bit-for-bit (single thread)."""

@@ -345,9 +345,7 @@ def run_mpm_steady(
         if run_dir is not None:
             write_progress(run_dir, drops, time.perf_counter() - wall0)
     if run_dir is not None:  # a longer run on this folder (a later t_max) goes on from here
-        from intrusim.mpm.solver import CHECKPOINT
-
-        solver.save_checkpoint(run_dir / CHECKPOINT)
+        solver.checkpoint_run_folder()
     wall = time.perf_counter() - wall0
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
