@@ -27,6 +27,7 @@ from intrusim.analysis.calibration import (
 )  # fmt: skip
 from intrusim.analysis.sweep import SweepResult
 from intrusim.figures import _write
+from intrusim.mpm.io import atomic_write_bytes
 from intrusim.scenarios import LocomotorScenario
 
 CURVE_RPM = np.arange(10.0, 90.1, 5.0)  # the DRFT curves (the MPM omegas are added)
@@ -109,5 +110,5 @@ def write_calibration(
              f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip
     paths = _write(out, name, curves, title)
     paths.append(out / f"{name}.json")
-    paths[-1].write_text(json.dumps(report, indent=1))
+    atomic_write_bytes(paths[-1], json.dumps(report, indent=1).encode())
     return paths

@@ -27,6 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.plates import fit_drag_law  # noqa: E402
+from intrusim.mpm.io import atomic_write_bytes  # noqa: E402
 
 PAPER_DRAG = {"K": 580.0, "lambda": 1.1, "rho": 900.0, "length": 0.016}
 PAPER_VERTICAL = {"lambda": 2.8, "rho": 2500.0, "length": 0.16, "mu": 0.62}
@@ -47,9 +48,7 @@ def _cached(path: Path, compute) -> dict[str, Any]:
         return json.loads(path.read_text())
     data = compute()
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(data))
-    tmp.replace(path)
+    atomic_write_bytes(path, json.dumps(data).encode())
     return data
 
 

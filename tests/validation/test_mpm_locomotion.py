@@ -64,6 +64,25 @@ def test_bad_mpm_cases_fail_before_compute():
         MPMLocomotion(scenario=sc, mpm=quick_settings("wheel")).run_steady("drft", 30.0)
 
 
+def test_run_description_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
+    """locomotion.json (what ``mpm collect`` reads to rebuild a run's scenario) goes through the
+    atomic writer: a write that fails before its rename leaves no file and no temporary."""
+    import intrusim.mpm.io as mpm_io
+
+    real_replace = mpm_io.os.replace
+
+    def failing_replace(src, dst):
+        if str(dst).endswith("locomotion.json"):
+            raise OSError("disk full")
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(mpm_io.os, "replace", failing_replace)
+    with pytest.raises(OSError, match="disk full"):
+        run_mpm_steady(grousered_wheel_scenario(), quick_settings("wheel"), 30.0, tmp_path / "run")
+    assert not (tmp_path / "run" / "locomotion.json").exists()
+    assert not list((tmp_path / "run").glob("locomotion.json*"))
+
+
 class _Killed(Exception):
     pass
 

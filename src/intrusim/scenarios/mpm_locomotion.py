@@ -296,9 +296,11 @@ def run_mpm_steady(
     if run_dir is not None:
         import json
 
+        from intrusim.mpm.io import atomic_write_bytes
+
         run_dir.mkdir(parents=True, exist_ok=True)
         info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
-        (run_dir / "locomotion.json").write_text(json.dumps(info, indent=1))
+        atomic_write_bytes(run_dir / "locomotion.json", json.dumps(info, indent=1).encode())
 
     def sample() -> None:
         """Rear surface drop (and kept particle fields) of the window at this chunk's end."""
