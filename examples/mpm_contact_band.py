@@ -8,6 +8,7 @@ law with a chosen band.
     python examples/mpm_contact_band.py wheel 30 --cell-mm 5 --band 0      # ~6 min, one thread
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0    # ~35 min, one thread
     python examples/mpm_contact_band.py wheel 90 --cell-mm 2.5 --small     # the Fig S1 wheel, ~32 min
+    python examples/mpm_contact_band.py wheel 90 --cell-mm 1.25 --small --band 0 --domain 0.6 0.5 --t-max 1.25  # ~1 h
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -44,10 +45,12 @@ from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_m
 
 def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
-    n = round(1.0 / (args.cell_mm * 1e-3))
+    domain = tuple(args.domain) if args.domain else paper_settings("wheel").domain
+    cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
     settings = paper_settings("wheel").model_copy(update=dict(
-        cells=(n, n), t_max=args.t_max, cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
-    out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
+        domain=domain, cells=cells, t_max=args.t_max, cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
+    tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
+    out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
     write_result(out, st)
@@ -182,6 +185,8 @@ r.add_argument("--band", type=float, default=1.0, help="contact band, cells")
 r.add_argument("--t-max", type=float, default=2.0)
 r.add_argument("--threads", type=int, default=1)
 r.add_argument("--small", action="store_true", help="the half-size wheel of Fig S1")
+r.add_argument("--domain", type=float, nargs=2, metavar=("LX", "LZ"), default=None,
+               help="domain length and height, m (default: the paper's 1 m x 1 m); the bed stays 0.3 m deep")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")

@@ -1,0 +1,77 @@
+"""Velocity and sinkage against time of finished MPM locomotion runs, side by side.
+
+For a question like "does the small wheel dig in at finer cells too?" (docs/results.md, Fig S1):
+each run folder's time series is averaged over consecutive windows of --every seconds and
+written to OUT.csv (one row per run and window: mean v, mean sinkage of the true outline) and
+plotted in OUT.png (v and sinkage against time, one line per run).
+
+    python examples/run_histories.py \
+        runs/small-fine/small_grousered_wheel_90rpm_2.5mm_band0_0.6x0.5m \
+        runs/small-fine/small_grousered_wheel_90rpm_1.25mm_band0_0.6x0.5m \
+        --label "2.5 mm" --label "1.25 mm" --out docs/figures/small_wheel_90rpm_cells
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
+
+
+def windows(run_dir: Path, every: float) -> list[dict]:
+    """Mean v (m/s) and sinkage (m) over consecutive windows [t, t + every) of one run."""
+    series = summarise_run(run_dir, t_start=0.0).series
+    t, rows = series["time"], []
+    for t0 in np.arange(0.0, t[-1], every):
+        sel = (t >= t0) & (t < t0 + every)
+        if sel.sum():
+            rows.append({"t_start": round(float(t0), 6), "t_end": round(float(t0 + every), 6),
+                         "velocity": float(series["vx"][sel].mean()), "sinkage": float(series["sinkage"][sel].mean())})
+    return rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("runs", nargs="+", type=Path, help="finished run folders (timeseries.csv, config.json)")
+    ap.add_argument("--label", action="append", default=None, help="a legend label per run, in order")
+    ap.add_argument("--every", type=float, default=0.125, help="window length, s")
+    ap.add_argument("--title", default="")
+    ap.add_argument("--out", required=True, help="output stem: OUT.csv and OUT.png")
+    args = ap.parse_args()
+    labels = args.label or [r.name for r in args.runs]
+    if len(labels) != len(args.runs):
+        ap.error(f"{len(labels)} labels for {len(args.runs)} runs")
+    if args.every <= 0:
+        ap.error("--every must be positive")
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig, (ax_v, ax_s) = plt.subplots(1, 2, figsize=(10, 4))
+    with out.with_suffix(".csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["run", "label", "t_start", "t_end", "velocity", "sinkage"])
+        w.writeheader()
+        for run, label in zip(args.runs, labels):
+            rows = windows(run, args.every)
+            for r in rows:
+                w.writerow({"run": run.name, "label": label, **r})
+            mid = [0.5 * (r["t_start"] + r["t_end"]) for r in rows]
+            ax_v.plot(mid, [r["velocity"] for r in rows], "o-", ms=3, label=label)
+            ax_s.plot(mid, [1e3 * r["sinkage"] for r in rows], "o-", ms=3, label=label)
+    ax_v.set(xlabel="t (s)", ylabel=f"v (m/s), mean over {args.every:g} s")
+    ax_s.set(xlabel="t (s)", ylabel="sinkage (mm)")
+    ax_v.legend()
+    fig.suptitle(args.title)
+    fig.tight_layout()
+    fig.savefig(out.with_suffix(".png"), dpi=120)
+    print(f"wrote {out.with_suffix('.csv')} and {out.with_suffix('.png')}")
+
+
+if __name__ == "__main__":
+    main()
