@@ -66,7 +66,7 @@ def test_bad_mpm_cases_fail_before_compute():
 
 def test_run_description_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
     """locomotion.json (what ``mpm collect`` reads to rebuild a run's scenario) goes through the
-    atomic writer: a write that fails before its rename leaves no file and no temporary."""
+    atomic writer: a write whose final rename fails leaves no file and no temporary."""
     import intrusim.mpm.io as mpm_io
 
     real_replace = mpm_io.os.replace
