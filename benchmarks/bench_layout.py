@@ -9,8 +9,9 @@ of structures: one 16-float (64-byte) record per point,
 (sigma stored once, it is symmetric), so a point's state is one cache line. This script times the
 solver's G2P kernel (``transfer.g2p_kernel``, the SoA layout) against a copy of it on the packed
 record, on the benchmark's 64k and 160k resting beds (bench_mpm.CASES) after a few steps of the
-solver, best of 5 x N launches each, the two layouts interleaved. Both compute the same numbers
-(checked here to float32 rounding). The baseline in the same run is the SoA kernel.
+solver: --rounds interleaved rounds of ~0.3 s of launches of each (min and median per launch).
+Both compute the same numbers (checked in each run: the largest difference relative to each
+field's magnitude is printed). The baseline in the same run is the SoA kernel.
 
     python benchmarks/bench_layout.py --threads 2
 """
@@ -21,11 +22,9 @@ import json
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
-
-RECORD = ("x0", "x1", "v0", "v1", "C00", "C01", "C10", "C11", "mass", "vol", "s_xx", "s_xz", "s_zz", "s_yy", "eps_p", "gdot_p")
-
 
 def packed_g2p_kernel(stress_update):
     """The solver's G2P + density + stress update on one 16-float record per point."""
@@ -66,7 +65,7 @@ def pack(state: dict) -> np.ndarray:
 
 
 def measure(threads: int, rounds: int) -> list[dict]:
-    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    sys.path.insert(0, str(Path(__file__).parent))
     import taichi as ti
     from bench_mpm import CASES, bed_solver
 
