@@ -18,6 +18,7 @@ during the window (:func:`intrusim.analysis.free_surface.rear_contact_drop`).
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 import time
@@ -32,6 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage
 from intrusim.geometry import posed_polygon, signed_area
+from intrusim.mpm.io import atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
 from intrusim.scenarios.locomotor import LocomotorScenario
@@ -227,18 +229,12 @@ PROGRESS_FILE = "progress.json"  # rear surface drops measured so far and wall t
 
 def write_progress(run_dir: Path, drops: list[tuple[float, float]], wall: float) -> None:
     """Save what a resumed run needs besides the solver checkpoint (atomic)."""
-    import json
-
-    from intrusim.mpm.io import atomic_write_bytes
-
     atomic_write_bytes(run_dir / PROGRESS_FILE, json.dumps({"drops": drops, "wall_time": wall}).encode())
 
 
 def read_progress(run_dir: Path) -> tuple[list[tuple[float, float]], float]:
     """(rear surface drops (t, dh) measured so far, wall time so far) from ``progress.json``;
     ([], 0) if the folder has none."""
-    import json
-
     path = Path(run_dir) / PROGRESS_FILE
     info = json.loads(path.read_text()) if path.exists() else {}
     return [(float(a), float(b)) for a, b in info.get("drops", [])], float(info.get("wall_time", 0.0))
@@ -294,10 +290,6 @@ def run_mpm_steady(
     # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
     if run_dir is not None:
-        import json
-
-        from intrusim.mpm.io import atomic_write_bytes
-
         run_dir.mkdir(parents=True, exist_ok=True)
         info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
         atomic_write_bytes(run_dir / "locomotion.json", json.dumps(info, indent=1).encode())
@@ -423,7 +415,6 @@ def summarise_run(
     measurements after ``t_start`` (``progress.json``, one per 0.05 s chunk) where the folder has them.
     """
     import csv
-    import json
 
     run_dir = Path(run_dir)
     ts = run_dir / "timeseries.csv"
@@ -455,10 +446,6 @@ def summarise_run(
 
 def write_result(run_dir: str | Path, st: MPMSteadyState) -> Path:
     """Mark a run folder finished: ``result.json`` holds the steady-state summary."""
-    import json
-
-    from intrusim.mpm.io import atomic_write_bytes
-
     path = Path(run_dir) / "result.json"
     atomic_write_bytes(path, json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str).encode())
     return path
@@ -471,7 +458,6 @@ def load_result(
     ``result.json`` (the rear surface drop is averaged over every snapshot of the window there,
     over the few kept ``fields_*.npz`` in :func:`summarise_run`). ``t_start``: another window
     start (see :func:`summarise_run`), whose rear surface drop comes from ``progress.json``."""
-    import json
     from dataclasses import replace
 
     st = summarise_run(run_dir, settings, body, t_start=t_start)
