@@ -45,9 +45,10 @@ from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_m
 
 def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
-    domain = tuple(args.domain) if args.domain else paper_settings("wheel").domain
+    base = paper_settings("wheel")
+    domain = tuple(args.domain) if args.domain else base.domain
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
-    settings = paper_settings("wheel").model_copy(update=dict(
+    settings = base.model_copy(update=dict(
         domain=domain, cells=cells, t_max=args.t_max, cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
