@@ -21,21 +21,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
+from intrusim.analysis.steady import window_means  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
 
 
 def windows(run_dir: Path, every: float) -> list[dict]:
     """Mean v (m/s) and sinkage (m) over consecutive windows [t, t + every) of one run."""
     series = summarise_run(run_dir, t_start=0.0).series
-    t, rows = series["time"], []
-    for t0 in np.arange(0.0, t[-1], every):
-        sel = (t >= t0) & (t < t0 + every)
-        if sel.sum():
-            rows.append({"t_start": round(float(t0), 6), "t_end": round(float(t0 + every), 6),
-                         "velocity": float(series["vx"][sel].mean()), "sinkage": float(series["sinkage"][sel].mean())})
-    return rows
+    return window_means(series["time"], {"velocity": series["vx"], "sinkage": series["sinkage"]}, every)
 
 
 def main() -> None:

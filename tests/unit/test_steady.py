@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from intrusim.analysis.steady import NoContactError, outline_sinkage, steady_state
+from intrusim._checks import InputError
+from intrusim.analysis.steady import NoContactError, outline_sinkage, steady_state, window_means
 from intrusim.bodies import Drive, IntegratorSettings, RigidBody, simulate
 from intrusim.geometry import circle, polygon_shape
 from intrusim.kinematics import BodyState
@@ -42,3 +43,16 @@ def test_body_that_never_touches_is_reported():
     tr = simulate(air, body, Drive(-3.0, 0.1), BodyState(z=0.5), 6.0, IntegratorSettings(dt=1e-2))
     with pytest.raises(NoContactError, match="never touched"):
         steady_state(tr, shape, 2)
+
+
+def test_window_means_average_each_window_and_skip_empty_ones():
+    t = np.array([0.0, 0.1, 0.2, 0.3, 0.9, 0.95])
+    v = np.array([1.0, 3.0, 5.0, 7.0, 2.0, 4.0])
+    rows = window_means(t, {"v": v, "twice": 2 * v}, 0.25)
+    assert [(r["t_start"], r["t_end"]) for r in rows] == [(0.0, 0.25), (0.25, 0.5), (0.75, 1.0)]
+    assert [r["v"] for r in rows] == pytest.approx([3.0, 7.0, 3.0])
+    assert [r["twice"] for r in rows] == pytest.approx([6.0, 14.0, 6.0])
+    with pytest.raises(InputError):
+        window_means(t, {"v": v}, 0.0)
+    with pytest.raises(InputError):
+        window_means(t, {"v": v[:-1]}, 0.25)

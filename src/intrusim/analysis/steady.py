@@ -107,6 +107,27 @@ def _lowest_height(px: np.ndarray, pz: np.ndarray, z: np.ndarray, s: np.ndarray,
     return out
 
 
+def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[str, float]]:
+    """Means of ``columns`` over consecutive windows [t0, t0 + every), t0 = 0, every, ... < time[-1].
+
+    The history of a run at a glance (has it settled? does it dig in?): one row per window that
+    holds samples, with ``t_start``, ``t_end`` and the mean of each column. Empty windows are skipped.
+    """
+    t = np.asarray(time, float)
+    if not every > 0.0:
+        raise InputError(f"window length must be positive, got {every}")
+    if t.ndim != 1 or any(np.shape(c) != t.shape for c in columns.values()):
+        raise InputError("time and every column must be 1-D arrays of one length")
+    rows: list[dict[str, float]] = []
+    for k in range(int(np.ceil(t[-1] / every)) if t.size else 0):
+        t0 = k * every
+        sel = (t >= t0) & (t < t0 + every)
+        if sel.any():
+            rows.append({"t_start": round(t0, 9), "t_end": round(t0 + every, 9),
+                         **{name: float(np.asarray(c, float)[sel].mean()) for name, c in columns.items()}})  # fmt: skip
+    return rows
+
+
 def steady_state(
     traj: Trajectory, shape: Shape, revolutions: int, surface_z: float = 0.0
 ) -> SteadyState:
