@@ -114,9 +114,10 @@ def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[
     holds samples, with ``t_start``, ``t_end`` and the mean of each column. Empty windows are skipped.
     """
     t = np.asarray(time, float)
+    cols = {name: np.asarray(c, float) for name, c in columns.items()}
     if not every > 0.0:
         raise InputError(f"window length must be positive, got {every}")
-    if t.ndim != 1 or any(np.shape(c) != t.shape for c in columns.values()):
+    if t.ndim != 1 or any(c.shape != t.shape for c in cols.values()):
         raise InputError("time and every column must be 1-D arrays of one length")
     rows: list[dict[str, float]] = []
     for k in range(int(np.ceil(t[-1] / every)) if t.size else 0):
@@ -124,7 +125,7 @@ def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[
         sel = (t >= t0) & (t < t0 + every)
         if sel.any():
             rows.append({"t_start": round(t0, 9), "t_end": round(t0 + every, 9),
-                         **{name: float(np.asarray(c, float)[sel].mean()) for name, c in columns.items()}})  # fmt: skip
+                         **{name: float(c[sel].mean()) for name, c in cols.items()}})  # fmt: skip
     return rows
 
 
