@@ -134,6 +134,8 @@ def collect(
     out: Path = typer.Option(None, help="Sweep CSV to write (default FOLDER/SCENARIO_mpm_sweep.csv)."),
     window_from: float = typer.Option(None, "--from", help="Average from this time on, s (default: ramp + settle time; "
                                       "a runner: whole revolutions from the end). For runs that settled late."),
+    last: float = typer.Option(None, "--last", help="Average over each run's last LAST seconds, s (runs of different "
+                               "lengths, each settled by its own end; not with --from)."),
 ) -> None:
     """Gather finished runs (e.g. `mpm steady` runs of one case on beds of different lengths) into
     the sweep CSV that `reproduce --mpm --runs` and `calibrate --mpm` read."""
@@ -149,8 +151,15 @@ def collect(
         typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
                    f"found {len(infos)} runs of {sorted(names) or 'none'}", err=True)
         raise typer.Exit(2)
+    if last is not None and (window_from is not None or not last > 0):
+        typer.echo("error: --last must be > 0 and cannot be given with --from", err=True)
+        raise typer.Exit(2)
+
+    def start(run: Path) -> float | None:  # --last: the window ends where the run's own window ends
+        return window_from if last is None else json.loads((run / "result.json").read_text())["window"][1] - last
+
     try:
-        records = sorted((steady_record(float(info["omega_rpm"]), load_result(run, t_start=window_from))
+        records = sorted((steady_record(float(info["omega_rpm"]), load_result(run, t_start=start(run)))
                           for run, info in infos.items()), key=lambda rec: rec["omega_rpm"])
     except InputError as err:
         typer.echo(f"error: {err}", err=True)

@@ -157,6 +157,13 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     assert rec["window_start"] > 0.9 and rec["velocity"] == pytest.approx(sum(vx) / len(vx), rel=1e-12)
     drops = [d for t, d in json.loads((run_dir / "progress.json").read_text())["drops"] if t > 0.9 and d == d]  # measured ones
     assert rec["surface_drop"] == pytest.approx(sum(drops) / len(drops), rel=1e-12)
+    # --last: each run over its own last seconds (here the same window as --from 0.9)
+    r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--last", str(done["window"][1] - 0.9), "--out", str(late)])
+    assert r.exit_code == 0, r.output
+    assert SweepResult.from_csv(late).records[0]["velocity"] == pytest.approx(rec["velocity"], rel=1e-12)
+    for bad in (["--last", "0"], ["--last", "0.2", "--from", "0.9"]):
+        r = runner.invoke(app, ["mpm", "collect", str(tmp_path), *bad, "--out", str(late)])
+        assert r.exit_code == 2 and "--last must be > 0" in r.output
     r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--from", "5", "--out", str(late)])
     assert r.exit_code == 2 and "before the averaging window starts" in r.output
     r = runner.invoke(app, ["mpm", "collect", str(tmp_path / "empty")])
