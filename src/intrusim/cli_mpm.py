@@ -144,15 +144,16 @@ def collect(
     from intrusim.analysis.sweep import SweepResult, steady_record
     from intrusim.scenarios.mpm_locomotion import load_result
 
+    if last is not None and (window_from is not None or not last > 0):
+        typer.echo("error: --last must be > 0 and cannot be given with --from", err=True)
+        raise typer.Exit(2)
+
     infos = {r.parent: json.loads((r.parent / "locomotion.json").read_text())
              for r in sorted(folder.glob("*/result.json")) if (r.parent / "locomotion.json").exists()}
     names = {info["scenario"]["name"] for info in infos.values()}
     if not infos or len(names) != 1:
         typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
                    f"found {len(infos)} runs of {sorted(names) or 'none'}", err=True)
-        raise typer.Exit(2)
-    if last is not None and (window_from is not None or not last > 0):
-        typer.echo("error: --last must be > 0 and cannot be given with --from", err=True)
         raise typer.Exit(2)
 
     def start(run: Path) -> float | None:  # --last: the window ends where the run's own window ends
