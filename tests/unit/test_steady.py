@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from intrusim._checks import InputError
-from intrusim.analysis.steady import NoContactError, outline_sinkage, steady_state, window_means
+from intrusim.analysis.steady import NoContactError, outline_sinkage, run_steady, steady_state, window_means
 from intrusim.bodies import Drive, IntegratorSettings, RigidBody, simulate
 from intrusim.geometry import circle, polygon_shape
 from intrusim.kinematics import BodyState
@@ -56,3 +56,29 @@ def test_window_means_average_each_window_and_skip_empty_ones():
         window_means(t, {"v": v}, 0.0)
     with pytest.raises(InputError):
         window_means(t, {"v": v[:-1]}, 0.25)
+
+
+def test_mean_wrench_along_own_steady_motion_is_the_load():
+    # along DRFT's own steady trajectory its mean force balances the load (no push: fx = 0,
+    # fz = weight); along a faster, slipping-less copy of it the wheel is pushed back and lifted
+    from intrusim.analysis.compare import mean_wrench_along
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    sc = grousered_wheel_scenario()
+    st = run_steady(sc, "drft", 10.0)
+    tr = st.trajectory
+    m = (tr.t >= st.window[0]) & (tr.t <= st.window[1])
+    series = {k: np.asarray(getattr(tr, k))[m] for k in ("x", "z", "theta", "vx", "vz", "omega")}
+    fx, fz, _ = mean_wrench_along(sc.build_model("drft"), series)
+    weight = sc.mass_z * sc.gravity
+    assert abs(fx) < 0.01 * weight and fz == pytest.approx(weight, rel=0.01)
+    # the same motion with the surface 0.3 m lower, given as 0.3 m higher in the series' frame
+    shifted = dict(series, z=series["z"] + 0.3)
+    assert np.allclose(mean_wrench_along(sc.build_model("drft"), shifted, 0.3), (fx, fz, _), rtol=1e-9, atol=1e-9)
+    faster = dict(series, vx=1.2 * series["vx"])
+    fx2, fz2, _ = mean_wrench_along(sc.build_model("drft"), faster)
+    assert fx2 < -0.05 * weight and fz2 > fz
+    with pytest.raises(InputError):
+        mean_wrench_along(sc.build_model("drft"), {"x": [0.0]})
+    with pytest.raises(InputError):
+        mean_wrench_along(sc.build_model("drft"), dict(series, vx=series["vx"][:-1]))

@@ -1,0 +1,118 @@
+"""DRFT's force on the wheel along the MPM wheel's own steady motion: where the two disagree.
+
+The steady states of DRFT and MPM differ (docs/results.md, Fig 5A-B); this asks why, one
+force component at a time. Over the last --last seconds of each finished MPM run, every
+sample of the MPM trajectory (x, z, theta, vx, vz, omega) is given to the DRFT force models
+of the run's scenario (the free surface at the bed's undisturbed height), and the mean DRFT
+force and moment are set against the mean force and moment the MPM grains put on the wheel.
+At the MPM's steady state the grains' force balances the load: fx = -(forward push), fz = the
+weight, so DRFT's excess over the MPM's fx is the net thrust that would drive the DRFT wheel
+faster than the MPM one, and its fz excess the lift that would hold it higher.
+
+Models: the paper's DRFT (rear-half split), the effective split, quasistatic RFT, and each
+calibrated force model given with --calibration NAME=JSON (an `intrusim calibrate` output).
+Writes OUT.csv (one row per run and model) and OUT.png (fx, fz and moment against omega).
+
+    python examples/drft_at_mpm_state.py runs/settled/* --last 1.0 \
+        --calibration "4p fit (settled)=docs/figures/calibration_wheel_band0_settled_4p.json" \
+        --out docs/figures/drft_at_mpm_state
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from intrusim.analysis.compare import mean_wrench_along  # noqa: E402
+from intrusim.scenarios.base import ForceModelConfig  # noqa: E402
+from intrusim.scenarios.locomotor import LocomotorScenario  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
+
+FIELDS = ("fx", "fz", "moment")
+
+
+def models(scenario: LocomotorScenario, calibrations: dict[str, dict]) -> dict[str, object]:
+    """The force models compared, by label."""
+    fm = scenario.force_model
+
+    def with_fm(**update: object) -> LocomotorScenario:
+        return scenario.model_copy(update={"force_model": fm.model_copy(update=update)})
+
+    out = {
+        "RFT": scenario.build_model("rft"),
+        "DRFT (paper)": with_fm(structural="wheel-rear-half").build_model("drft"),
+        "DRFT, effective split": with_fm(structural="wheel-rear-half-effective").build_model("drft"),
+    }
+    for label, values in calibrations.items():
+        out[label] = scenario.model_copy(update={"force_model": ForceModelConfig(**values)}).build_model("drft")
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("runs", nargs="+", type=Path, help="finished MPM wheel run folders")
+    ap.add_argument("--last", type=float, default=1.0, help="averaging window: each run's last LAST seconds")
+    ap.add_argument("--calibration", action="append", default=[], metavar="LABEL=JSON",
+                    help="a calibrated DRFT (intrusim calibrate JSON) to compare as well; repeatable")  # fmt: skip
+    ap.add_argument("--out", type=Path, required=True, help="output stem (writes OUT.csv and OUT.png)")
+    args = ap.parse_args()
+    if args.last <= 0:
+        ap.error(f"--last must be > 0, got {args.last}")
+    calibrations = {}
+    for item in args.calibration:
+        label, sep, path = item.partition("=")
+        if not sep:
+            ap.error(f"--calibration must be LABEL=JSON, got {item!r}")
+        calibrations[label] = json.loads(Path(path).read_text())["calibration"]["force_model"]
+
+    rows = []
+    for run in args.runs:
+        meta = json.loads((run / "locomotion.json").read_text())
+        scenario = LocomotorScenario.model_validate(meta["scenario"])
+        end = float(np.max(summarise_run(run, t_start=0.0).series["time"]))
+        s = summarise_run(run, t_start=end - args.last).series
+        win = s["time"] >= end - args.last
+        s = {k: np.asarray(v)[win] for k, v in s.items()}
+        base = {"run": run.name, "omega_rpm": float(meta["omega_rpm"]), "t0": float(s["time"][0]),
+                "t1": float(s["time"][-1]), "samples": int(win.sum()), "velocity": float(np.mean(s["vx"])),
+                "sinkage": float(np.mean(s["sinkage"]))}  # fmt: skip
+        mpm = np.array([np.mean(s[f]) for f in FIELDS])
+        rows.append({**base, "model": "MPM", **dict(zip(FIELDS, mpm))})
+        for label, model in models(scenario, calibrations).items():
+            rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
+        print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
+        for r in rows[-(len(calibrations) + 4):]:
+            print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
+
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    with args.out.with_suffix(".csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    labels = list(dict.fromkeys(r["model"] for r in rows))
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    for ax, field, unit in zip(axes, FIELDS, ("N", "N", "N m")):
+        for label in labels:
+            pts = sorted((r["omega_rpm"], r[field]) for r in rows if r["model"] == label)
+            style = dict(color="k", ls="--", marker="o", mfc="w") if label == "MPM" else dict(marker=".")
+            ax.plot(*zip(*pts), label=label, **style)
+        ax.set_xlabel("omega (RPM)")
+        ax.set_ylabel(f"mean {field} on the wheel ({unit})")
+        ax.axhline(0.0, color="0.8", lw=0.8)
+    axes[0].legend(fontsize=7)
+    fig.suptitle(f"Force on the wheel along the MPM's own motion (each run's last {args.last:g} s)")
+    fig.tight_layout()
+    fig.savefig(args.out.with_suffix(".png"), dpi=120)
+    print(f"wrote {args.out.with_suffix('.csv')} and .png")
+
+
+if __name__ == "__main__":
+    main()
