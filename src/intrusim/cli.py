@@ -200,6 +200,7 @@ def calibrate(
     psi_from_dh: str = typer.Option("none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."),
     check: list[str] = typer.Option([], help="Transfer check NAME=CSV (a scenario and its MPM sweep), fitted values reused; repeatable."),
     model: str = typer.Option("drft", help="Force model: drft (rft or drft-inertial ignore psi)."),
+    settled_only: bool = typer.Option(False, "--settled-only", help="Fit only the MPM runs that settled (velocity drift < 5 %; the CSV's settled column)."),
     starts: int = typer.Option(8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
@@ -219,7 +220,7 @@ def calibrate(
         if structural is not None:
             start = start.model_copy(update=dict(force_model=start.force_model.model_validate({**start.force_model.model_dump(), "structural": structural})))
         start = with_mpm_push(start) if mpm_push else start
-        ref = load_reference(mpm, start.name)
+        ref = load_reference(mpm, start.name, settled_only=settled_only)
         if psi_from_dh != "none":
             psi = psi_from_surface_drop(start, ref)
             if psi is None:
@@ -237,7 +238,7 @@ def calibrate(
     except (InputError, ValueError) as err:
         _fail(err)
     meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
-                        "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model,
+                        "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
                         "starts": starts}}  # fmt: skip
     paths = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
     c = res.comparison

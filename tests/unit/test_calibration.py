@@ -164,6 +164,22 @@ def test_load_reference_keeps_finished_runs_sorted(tmp_path):
     assert np.isnan(ref.column("surface_drop")[0]) and ref.column("velocity")[1] == 0.33
     with pytest.raises(ValueError, match="not found"):
         load_reference(tmp_path / "missing.csv")
+    with pytest.raises(ValueError, match="settled"):  # no run says it settled
+        load_reference(path, settled_only=True)
+
+
+def test_load_reference_settled_only_drops_runs_still_digging_in(tmp_path):
+    recs = [
+        {"omega_rpm": 90.0, "ok": True, "velocity": 0.17, "sinkage": 0.10, "settled": False},
+        {"omega_rpm": 10.0, "ok": True, "velocity": 0.06, "sinkage": 0.042, "settled": True},
+        {"omega_rpm": 30.0, "ok": True, "velocity": 0.15, "sinkage": 0.045, "settled": True},
+    ]
+    path = SweepResult("w", "mpm", None, recs).to_csv(tmp_path / "mpm.csv")
+    assert list(load_reference(path).omega_rpm) == [10.0, 30.0, 90.0]
+    assert list(load_reference(path, settled_only=True).omega_rpm) == [10.0, 30.0]
+    unsettled = SweepResult("w", "mpm", None, [dict(r, settled=False) for r in recs]).to_csv(tmp_path / "none.csv")
+    with pytest.raises(ValueError, match="no finished \\(ok, settled\\) MPM run"):
+        load_reference(unsettled, settled_only=True)
 
 
 # --- command line -----------------------------------------------------------------------------------

@@ -109,12 +109,18 @@ def fit_psi_affine(omega: Any, surface_drop: Any, radius: float, gravity: float 
 
 
 # --- the reference and the DRFT parameters ----------------------------------------------------
-def load_reference(path: Any, scenario: str = "") -> SweepResult:
-    """MPM steady states from a sweep CSV: the finished (ok) rows, sorted by omega."""
+def load_reference(path: Any, scenario: str = "", settled_only: bool = False) -> SweepResult:
+    """MPM steady states from a sweep CSV: the finished (ok) rows, sorted by omega.
+
+    settled_only: keep only the rows whose ``settled`` column is true (velocity drift between the
+    window's halves under 5 %): a run still digging in has no steady state to fit.
+    """
     res = SweepResult.from_csv(path)
     rows = sorted((r for r in res.records if r["ok"]), key=lambda r: r["omega_rpm"])
+    if settled_only:  # a sweep CSV without the flag reads back as not settled
+        rows = [r for r in rows if bool(r.get("settled", False))]
     if not rows:
-        raise ValueError(f"{path}: no finished (ok) MPM run")
+        raise ValueError(f"{path}: no finished (ok{', settled' if settled_only else ''}) MPM run")
     return SweepResult(scenario, "mpm", None, rows, meta=res.meta)
 
 
