@@ -9,8 +9,10 @@ At the MPM's steady state the grains' force balances the load: fx = -(forward pu
 weight, so DRFT's excess over the MPM's fx is the net thrust that would drive the DRFT wheel
 faster than the MPM one, and its fz excess the lift that would hold it higher.
 
-Models: the paper's DRFT (rear-half split), the effective split, quasistatic RFT, and each
-calibrated force model given with --calibration NAME=JSON (an `intrusim calibrate` output).
+Models: the paper's DRFT (rear-half split), the effective split, quasistatic RFT, each
+calibrated force model given with --calibration NAME=JSON (an `intrusim calibrate` output), and
+the paper's DRFT with other grouser-shadowing factors (--lug-scale S: grousers S x their true
+height; the paper's 1/3).
 Writes OUT.csv (one row per run and model) and OUT.png (fx, fz and moment against omega).
 
     python examples/drft_at_mpm_state.py runs/settled/* --last 1.0 \
@@ -39,7 +41,7 @@ from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
 FIELDS = ("fx", "fz", "moment")
 
 
-def models(scenario: LocomotorScenario, calibrations: dict[str, dict]) -> dict[str, object]:
+def models(scenario: LocomotorScenario, calibrations: dict[str, dict], lug_scales: list[float]) -> dict[str, object]:
     """The force models compared, by label."""
     fm = scenario.force_model
 
@@ -53,6 +55,9 @@ def models(scenario: LocomotorScenario, calibrations: dict[str, dict]) -> dict[s
     }
     for label, values in calibrations.items():
         out[label] = scenario.model_copy(update={"force_model": ForceModelConfig(**values)}).build_model("drft")
+    for h in lug_scales:  # the paper's DRFT with another grouser-shadowing factor (paper: 1/3)
+        out[f"DRFT (paper), grousers x{h:g}"] = with_fm(structural="wheel-rear-half").model_copy(
+            update={"lug_height_scale": h}).build_model("drft")  # fmt: skip
     return out
 
 
@@ -62,10 +67,14 @@ def main() -> None:
     ap.add_argument("--last", type=float, default=1.0, help="averaging window: each run's last LAST seconds")
     ap.add_argument("--calibration", action="append", default=[], metavar="LABEL=JSON",
                     help="a calibrated DRFT (intrusim calibrate JSON) to compare as well; repeatable")  # fmt: skip
+    ap.add_argument("--lug-scale", type=float, action="append", default=[], metavar="S",
+                    help="also the paper's DRFT with the grousers' effective height S x the true one (paper 1/3); repeatable")  # fmt: skip
     ap.add_argument("--out", type=Path, required=True, help="output stem (writes OUT.csv and OUT.png)")
     args = ap.parse_args()
     if args.last <= 0:
         ap.error(f"--last must be > 0, got {args.last}")
+    if any(not 0.0 < h <= 10.0 for h in args.lug_scale):
+        ap.error(f"--lug-scale must be in (0, 10], got {args.lug_scale}")
     calibrations = {}
     for item in args.calibration:
         label, sep, path = item.partition("=")
@@ -86,10 +95,10 @@ def main() -> None:
                 "sinkage": float(np.mean(s["sinkage"]))}  # fmt: skip
         mpm = np.array([np.mean(s[f]) for f in FIELDS])
         rows.append({**base, "model": "MPM", **dict(zip(FIELDS, mpm))})
-        for label, model in models(scenario, calibrations).items():
+        for label, model in models(scenario, calibrations, args.lug_scale).items():
             rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
         print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
-        for r in rows[-(len(calibrations) + 4):]:
+        for r in rows[-(len(calibrations) + len(args.lug_scale) + 4):]:
             print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
 
     args.out.parent.mkdir(parents=True, exist_ok=True)
