@@ -214,3 +214,10 @@ def test_cli_calibrate_bad_input_is_a_message(tmp_path):
     assert r.exit_code == 2 and "not found" in r.output
     r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", "x.csv", "--params", "xi,psi", "--psi-from-dh", "affine"])
     assert r.exit_code == 2 and "do not fit psi" in r.output
+
+
+def test_cli_calibrate_settled_only_without_settled_runs_is_a_message(tmp_path):
+    recs = [{"omega_rpm": w, "ok": True, "velocity": 0.1, "sinkage": 0.05, "settled": False} for w in (30.0, 90.0)]
+    path = SweepResult("w", "mpm", None, recs).to_csv(tmp_path / "mpm.csv")
+    r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", str(path), "--settled-only", "--out", str(tmp_path)])
+    assert r.exit_code == 2 and "settled" in r.output and not list(tmp_path.glob("*.json"))
