@@ -34,6 +34,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from intrusim.analysis.compare import mean_wrench_along  # noqa: E402
+from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE  # noqa: E402
+from intrusim.kinematics import BodyState  # noqa: E402
 from intrusim.scenarios.base import ForceModelConfig  # noqa: E402
 from intrusim.scenarios.locomotor import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
@@ -61,6 +63,22 @@ def models(scenario: LocomotorScenario, calibrations: dict[str, dict], lug_scale
     return out
 
 
+PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
+
+
+def part_forces(model: object, s: dict[str, np.ndarray], surface: float) -> dict[str, np.ndarray]:
+    """Mean (fx, fz) of each part of the wheel, ahead of and behind its centre (NumPy path)."""
+    els = model.elements  # type: ignore[attr-defined]
+    acc: dict[str, list] = {}
+    for x, z, th, vx, vz, om in zip(s["x"], s["z"], s["theta"], s["vx"], s["vz"], s["omega"]):
+        pos, t = model.element_tractions(BodyState(x, z - surface, th, vx, vz, om))  # type: ignore[attr-defined]
+        f = t * els.area[:, None]
+        for name, tag in PARTS.items():
+            for half, sel in (("front", pos[:, 0] > x), ("rear", pos[:, 0] <= x)):
+                acc.setdefault(f"{name}, {half}", []).append(f[(els.tag == tag) & sel].sum(axis=0))
+    return {k: np.mean(v, axis=0) for k, v in acc.items()}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+", type=Path, help="finished MPM wheel run folders")
@@ -69,6 +87,8 @@ def main() -> None:
                     help="a calibrated DRFT (intrusim calibrate JSON) to compare as well; repeatable")  # fmt: skip
     ap.add_argument("--lug-scale", type=float, action="append", default=[], metavar="S",
                     help="also the paper's DRFT with the grousers' effective height S x the true one (paper 1/3); repeatable")  # fmt: skip
+    ap.add_argument("--parts", action="store_true",
+                    help="also split the paper's DRFT force by part (rim, grouser sides, tips) and half: OUT_parts.csv")  # fmt: skip
     ap.add_argument("--out", type=Path, required=True, help="output stem (writes OUT.csv and OUT.png)")
     args = ap.parse_args()
     if args.last <= 0:
@@ -82,7 +102,7 @@ def main() -> None:
             ap.error(f"--calibration must be LABEL=JSON, got {item!r}")
         calibrations[label] = json.loads(Path(path).read_text())["calibration"]["force_model"]
 
-    rows = []
+    rows, parts = [], []
     for run in args.runs:
         meta = json.loads((run / "locomotion.json").read_text())
         scenario = LocomotorScenario.model_validate(meta["scenario"])
@@ -97,15 +117,26 @@ def main() -> None:
         rows.append({**base, "model": "MPM", **dict(zip(FIELDS, mpm))})
         for label, model in models(scenario, calibrations, args.lug_scale).items():
             rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
+        if args.parts:
+            paper = models(scenario, {}, [])["DRFT (paper)"]
+            for name, (fx, fz) in part_forces(paper, s, meta["settings"]["bed_depth"]).items():
+                parts.append({"run": run.name, "omega_rpm": base["omega_rpm"], "part": name, "fx": fx, "fz": fz})
         print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
         for r in rows[-(len(calibrations) + len(args.lug_scale) + 4):]:
             print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
+        for r in parts[-6:] if args.parts else []:
+            print(f"    DRFT (paper), {r['part']:<20s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N")
 
     args.out.parent.mkdir(parents=True, exist_ok=True)
     with args.out.with_suffix(".csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    if parts:
+        with args.out.with_name(args.out.name + "_parts.csv").open("w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(parts[0]))
+            w.writeheader()
+            w.writerows(parts)
     labels = list(dict.fromkeys(r["model"] for r in rows))
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
     for ax, field, unit in zip(axes, FIELDS, ("N", "N", "N m")):
