@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from intrusim.mpm.io import atomic_write_bytes, load_checkpoint, save_checkpoint
+from intrusim.mpm.io import atomic_write_bytes, load_checkpoint, save_checkpoint, write_csv
 
 
 def test_checkpoint_round_trip_leaves_no_temporary(tmp_path):
@@ -37,3 +37,9 @@ def test_failed_write_keeps_the_previous_file(tmp_path):
         atomic_write_bytes(path, "not bytes")  # the write fails after the temporary exists
     assert path.read_bytes() == b"old"
     assert [p.name for p in tmp_path.iterdir()] == ["config.json"]
+
+
+def test_csv_columns_are_the_union_in_order_of_first_appearance(tmp_path):
+    path = tmp_path / "ts.csv"
+    write_csv(path, [{"time": 0.0, "fx": 1.0}, {"time": 0.1, "fx": 2.0, "fx_ahead": 1.5}])
+    assert path.read_text().splitlines() == ["time,fx,fx_ahead", "0.0,1.0,", "0.1,2.0,1.5"]

@@ -5,7 +5,8 @@ v_b = v_cm + omega x r (rigid velocity at the node), v_rel = v_node - v_b, n = o
 If v_rel . n < 0 (approaching) the normal part is removed and the tangential part is reduced
 by at most mu |dv_n| (Coulomb); separating nodes are left alone. The momentum removed from the
 grains, summed over nodes and divided by dt, is the force on the body (and its moment about
-the body reference point). The reductions are accumulated in float64.
+the body reference point). The reductions are accumulated in float64, in two sums: nodes ahead
+of the reference point (x > x_body) and the others, so the force can be split front / rear.
 """
 
 from dataclasses import dataclass
@@ -83,7 +84,9 @@ def rigid_polygon_contact(
     bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
     mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(),
 ):
-    """Project grid velocities against one rigid polygon; impulse += (Fx, Fz, My) dt on the body.
+    """Project grid velocities against one rigid polygon; impulse[k] += (Fx, Fz, My) dt on the body.
+
+    k = 0 for nodes ahead of the reference point (x > x_body), 1 for the others.
 
     ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
     are outside the band and skip the distance computation.
@@ -103,7 +106,8 @@ def rigid_polygon_contact(
                 v_new = vb + coulomb_project(v_old - vb, n, mu)
                 dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
                 moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
-                impulse[0] += ti.Vector([-dp[0], -dp[1], moment])
+                k = 0 if r[0] > 0.0 else 1  # ahead of the body's reference point / behind
+                impulse[k] += ti.Vector([-dp[0], -dp[1], moment])
                 gv[i, j] = v_new
 
 
@@ -144,8 +148,9 @@ class PolygonContact:
         self.radius = float(np.max(np.linalg.norm(verts, axis=1)))
         self._verts = ti.Vector.ndarray(2, info().real, shape=len(verts))
         self._verts.from_numpy(verts.astype(info().np_real))
-        # cumulative (Fx, Fz, My) dt on the body: one 3-vector (read back in ~6 us, to_numpy ~100 us)
-        self.impulse = ti.Vector.ndarray(3, ti.f64, shape=1)
+        # cumulative (Fx, Fz, My) dt on the body from the nodes ahead of it [0] and behind [1]
+        # (two 3-vectors: read back element-wise in ~6 us each, to_numpy ~100 us)
+        self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
 
     POSE_VARS = ("i0", "i1", "j0", "j1", "x", "z", "theta", "vx", "vz", "omega")
 
@@ -168,9 +173,19 @@ class PolygonContact:
 
     def read_impulse(self) -> np.ndarray:
         """Cumulative impulse on the body (Jx, Jz per unit width N s/m; angular N s)."""
-        j = self.impulse[0]
-        return np.array([j[0], j[1], j[2]])
+        return self.read_impulse_split().sum(axis=0)
+
+    def read_impulse_split(self) -> np.ndarray:
+        """(2, 3) cumulative impulse from the nodes ahead of the body's reference point [0] and behind [1]."""
+        a, b = self.impulse[0], self.impulse[1]
+        return np.array([[a[0], a[1], a[2]], [b[0], b[1], b[2]]])
 
     def write_impulse(self, impulse) -> None:
-        """Set the cumulative impulse (restart from a checkpoint)."""
-        self.impulse.from_numpy(np.asarray(impulse, dtype=np.float64).reshape(1, 3))
+        """Set the cumulative impulse (restart from a checkpoint): the (2, 3) split, or a total
+        (3,) from a checkpoint written before the split, which is then booked as ahead."""
+        j = np.asarray(impulse, dtype=np.float64)
+        if j.shape == (3,):
+            j = np.stack([j, np.zeros(3)])
+        if j.shape != (2, 3):
+            raise ValueError(f"impulse must have shape (3,) or (2, 3), got {j.shape}")
+        self.impulse.from_numpy(j)

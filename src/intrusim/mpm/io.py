@@ -79,7 +79,10 @@ def write_csv(path: Path, rows: list[dict]) -> None:
     import io as _io
 
     buf = _io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0].keys()))
+    # columns in order of first appearance: a run extended by a newer build may add some; the
+    # rows written before them leave those cells empty
+    fields = list(dict.fromkeys(k for row in rows for k in row))
+    writer = csv.DictWriter(buf, fieldnames=fields, restval="")
     writer.writeheader()
     writer.writerows(rows)
     atomic_write_bytes(Path(path), buf.getvalue().encode())

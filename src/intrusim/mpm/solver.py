@@ -93,6 +93,7 @@ class Solver:
         self.rows: list[dict] = []
         self._impulse_prev = [np.zeros(3) for _ in self.intruders]
         self._impulse_mark = [np.zeros(3) for _ in self.intruders]
+        self._impulse_mark_ahead = [np.zeros(3) for _ in self.intruders]
         self._step_mark = 0
         self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
 
@@ -190,13 +191,18 @@ class Solver:
         row: dict = {"time": self.t, "step": self.step_count}
         for k, body in enumerate(self.intruders):
             pre = "" if k == 0 else f"b{k}_"
-            impulse = body.contact.read_impulse()
+            split = body.contact.read_impulse_split()
+            impulse, ahead = split.sum(axis=0), split[0]
             f = (impulse - self._impulse_mark[k]) / elapsed if elapsed > 0 else np.zeros(3)
-            self._impulse_mark[k] = impulse
+            fa = (ahead - self._impulse_mark_ahead[k]) / elapsed if elapsed > 0 else np.zeros(3)
+            self._impulse_mark[k], self._impulse_mark_ahead[k] = impulse, ahead
             st = body.state
             row.update({f"{pre}{n}": getattr(st, n) for n in ("x", "z", "theta", "vx", "vz", "omega")})
             row.update({f"{pre}fx": f[0] * body.width, f"{pre}fz": f[1] * body.width,
                         f"{pre}moment": f[2] * body.width})
+            # the part from the grid nodes ahead of the reference point (x > x_body); behind = total - ahead
+            row.update({f"{pre}fx_ahead": fa[0] * body.width, f"{pre}fz_ahead": fa[1] * body.width,
+                        f"{pre}moment_ahead": fa[2] * body.width})
         ke, mass = self.grain_energy_and_mass()
         row.update({"kinetic_energy": ke, "grain_mass": mass})
         self._step_mark = self.step_count
@@ -269,9 +275,10 @@ class Solver:
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
             "step_mark": self._step_mark,
             "bodies": [b.state.as_dict() for b in self.intruders],
-            "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
+            "impulse": [b.contact.read_impulse_split().tolist() for b in self.intruders],
             "impulse_prev": [a.tolist() for a in self._impulse_prev],
             "impulse_mark": [a.tolist() for a in self._impulse_mark],
+            "impulse_mark_ahead": [a.tolist() for a in self._impulse_mark_ahead],
         }
         path.parent.mkdir(parents=True, exist_ok=True)
         mpm_io.save_checkpoint(path, self.particles.to_numpy(), meta)
@@ -293,6 +300,10 @@ class Solver:
             body.contact.write_impulse(meta["impulse"][k])
             self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
+            # a checkpoint from before the front / rear split booked its whole impulse as ahead
+            # (write_impulse): its ahead mark is then the total mark
+            marks_ahead = meta.get("impulse_mark_ahead", meta["impulse_mark"])
+            self._impulse_mark_ahead[k] = np.asarray(marks_ahead[k])
 
     @classmethod
     def resume(cls, run_dir: str | Path) -> "Solver":
