@@ -79,6 +79,16 @@ def part_forces(model: object, s: dict[str, np.ndarray], surface: float) -> dict
     return {k: np.mean(v, axis=0) for k, v in acc.items()}
 
 
+def mpm_ahead(run: Path, t0: float, t1: float) -> np.ndarray | None:
+    """Mean (fx, fz) of the MPM grains on the wheel from the grid nodes ahead of its centre over
+    [t0, t1] (time-series columns fx_ahead, fz_ahead), or None where the run has not recorded them."""
+    with (run / "timeseries.csv").open() as f:
+        rows = [r for r in csv.DictReader(f) if t0 - 1e-9 <= float(r["time"]) <= t1 + 1e-9]
+    if not rows or any(r.get("fx_ahead", "") in ("", None) for r in rows):
+        return None
+    return np.array([[float(r["fx_ahead"]), float(r["fz_ahead"])] for r in rows]).mean(axis=0)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+", type=Path, help="finished MPM wheel run folders")
@@ -88,7 +98,8 @@ def main() -> None:
     ap.add_argument("--lug-scale", type=float, action="append", default=[], metavar="S",
                     help="also the paper's DRFT with the grousers' effective height S x the true one (paper 1/3); repeatable")  # fmt: skip
     ap.add_argument("--parts", action="store_true",
-                    help="also split the paper's DRFT force by part (rim, grouser sides, tips) and half: OUT_parts.csv")  # fmt: skip
+                    help="also split the paper's DRFT force by part (rim, grouser sides, tips) and half, and the "
+                         "MPM's by half where its time series has fx_ahead: OUT_parts.csv")  # fmt: skip
     ap.add_argument("--out", type=Path, required=True, help="output stem (writes OUT.csv and OUT.png)")
     args = ap.parse_args()
     if args.last <= 0:
@@ -119,13 +130,21 @@ def main() -> None:
             rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
         if args.parts:
             paper = models(scenario, {}, [])["DRFT (paper)"]
-            for name, (fx, fz) in part_forces(paper, s, meta["settings"]["bed_depth"]).items():
-                parts.append({"run": run.name, "omega_rpm": base["omega_rpm"], "part": name, "fx": fx, "fz": fz})
+            split = part_forces(paper, s, meta["settings"]["bed_depth"])
+            for half in ("front", "rear"):
+                split[f"all parts, {half}"] = sum(v for k, v in split.items() if k.endswith(half))
+            entries = [("DRFT (paper)", name, f) for name, f in split.items()]
+            ahead = mpm_ahead(run, float(s["time"][0]), float(s["time"][-1]))
+            if ahead is not None:  # the MPM's own split (grid nodes ahead of / behind the centre)
+                entries += [("MPM", "all parts, front", ahead), ("MPM", "all parts, rear", mpm[:2] - ahead)]
+            for model_name, name, (fx, fz) in entries:
+                parts.append({"run": run.name, "omega_rpm": base["omega_rpm"], "model": model_name, "part": name, "fx": fx, "fz": fz})
         print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
         for r in rows[-(len(calibrations) + len(args.lug_scale) + 4):]:
             print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
-        for r in parts[-6:] if args.parts else []:
-            print(f"    DRFT (paper), {r['part']:<20s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N")
+        for r in parts if args.parts else []:
+            if r["run"] == run.name:
+                print(f"    {r['model']}, {r['part']:<20s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N")
 
     args.out.parent.mkdir(parents=True, exist_ok=True)
     with args.out.with_suffix(".csv").open("w", newline="") as f:
