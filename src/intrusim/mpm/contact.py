@@ -5,8 +5,8 @@ v_b = v_cm + omega x r (rigid velocity at the node), v_rel = v_node - v_b, n = o
 If v_rel . n < 0 (approaching) the normal part is removed and the tangential part is reduced
 by at most mu |dv_n| (Coulomb); separating nodes are left alone. The momentum removed from the
 grains, summed over nodes and divided by dt, is the force on the body (and its moment about
-the body reference point). The reductions are accumulated in float64, in two sums: nodes ahead
-of the reference point (x > x_body) and the others, so the force can be split front / rear.
+the body reference point). The reductions are accumulated in float64, once over all nodes and
+once over the nodes ahead of the reference point (x > x_body), so the force can be split front / rear.
 """
 
 from dataclasses import dataclass
@@ -84,9 +84,9 @@ def rigid_polygon_contact(
     bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
     mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(),
 ):
-    """Project grid velocities against one rigid polygon; impulse[k] += (Fx, Fz, My) dt on the body.
+    """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
 
-    k = 0 for nodes ahead of the reference point (x > x_body), 1 for the others.
+    impulse[1] += the same from the nodes ahead of the reference point (x > x_body) only.
 
     ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
     are outside the band and skip the distance computation.
@@ -106,8 +106,10 @@ def rigid_polygon_contact(
                 v_new = vb + coulomb_project(v_old - vb, n, mu)
                 dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
                 moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
-                k = 0 if r[0] > 0.0 else 1  # ahead of the body's reference point / behind
-                impulse[k] += ti.Vector([-dp[0], -dp[1], moment])
+                j_node = ti.Vector([-dp[0], -dp[1], moment])
+                impulse[0] += j_node
+                if r[0] > 0.0:  # ahead of the body's reference point
+                    impulse[1] += j_node
                 gv[i, j] = v_new
 
 
@@ -148,8 +150,8 @@ class PolygonContact:
         self.radius = float(np.max(np.linalg.norm(verts, axis=1)))
         self._verts = ti.Vector.ndarray(2, info().real, shape=len(verts))
         self._verts.from_numpy(verts.astype(info().np_real))
-        # cumulative (Fx, Fz, My) dt on the body from the nodes ahead of it [0] and behind [1]
-        # (two 3-vectors: read back element-wise in ~6 us each, to_numpy ~100 us)
+        # cumulative (Fx, Fz, My) dt on the body [0], and from the nodes ahead of it [1]
+        # (3-vectors: one read back in ~6 us, to_numpy ~100 us; each step reads [0] only)
         self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
 
     POSE_VARS = ("i0", "i1", "j0", "j1", "x", "z", "theta", "vx", "vz", "omega")
@@ -173,19 +175,17 @@ class PolygonContact:
 
     def read_impulse(self) -> np.ndarray:
         """Cumulative impulse on the body (Jx, Jz per unit width N s/m; angular N s)."""
-        return self.read_impulse_split().sum(axis=0)
+        j = self.impulse[0]
+        return np.array([j[0], j[1], j[2]])
 
-    def read_impulse_split(self) -> np.ndarray:
-        """(2, 3) cumulative impulse from the nodes ahead of the body's reference point [0] and behind [1]."""
-        a, b = self.impulse[0], self.impulse[1]
-        return np.array([[a[0], a[1], a[2]], [b[0], b[1], b[2]]])
+    def read_impulse_ahead(self) -> np.ndarray:
+        """The part of :meth:`read_impulse` from the nodes ahead of the body's reference point."""
+        j = self.impulse[1]
+        return np.array([j[0], j[1], j[2]])
 
-    def write_impulse(self, impulse) -> None:
-        """Set the cumulative impulse (restart from a checkpoint): the (2, 3) split, or a total
-        (3,) from a checkpoint written before the split, which is then booked as ahead."""
-        j = np.asarray(impulse, dtype=np.float64)
-        if j.shape == (3,):
-            j = np.stack([j, np.zeros(3)])
-        if j.shape != (2, 3):
-            raise ValueError(f"impulse must have shape (3,) or (2, 3), got {j.shape}")
-        self.impulse.from_numpy(j)
+    def write_impulse(self, impulse, ahead=None) -> None:
+        """Set the cumulative impulse and its part from ahead (restart from a checkpoint; a
+        checkpoint from before the split has none: the part from ahead restarts from zero)."""
+        total = np.asarray(impulse, np.float64).reshape(3)
+        part = np.zeros(3) if ahead is None else np.asarray(ahead, np.float64).reshape(3)
+        self.impulse.from_numpy(np.stack([total, part]))

@@ -191,8 +191,7 @@ class Solver:
         row: dict = {"time": self.t, "step": self.step_count}
         for k, body in enumerate(self.intruders):
             pre = "" if k == 0 else f"b{k}_"
-            split = body.contact.read_impulse_split()
-            impulse, ahead = split.sum(axis=0), split[0]
+            impulse, ahead = body.contact.read_impulse(), body.contact.read_impulse_ahead()
             f = (impulse - self._impulse_mark[k]) / elapsed if elapsed > 0 else np.zeros(3)
             fa = (ahead - self._impulse_mark_ahead[k]) / elapsed if elapsed > 0 else np.zeros(3)
             self._impulse_mark[k], self._impulse_mark_ahead[k] = impulse, ahead
@@ -275,7 +274,8 @@ class Solver:
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
             "step_mark": self._step_mark,
             "bodies": [b.state.as_dict() for b in self.intruders],
-            "impulse": [b.contact.read_impulse_split().tolist() for b in self.intruders],
+            "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
+            "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
             "impulse_prev": [a.tolist() for a in self._impulse_prev],
             "impulse_mark": [a.tolist() for a in self._impulse_mark],
             "impulse_mark_ahead": [a.tolist() for a in self._impulse_mark_ahead],
@@ -297,13 +297,12 @@ class Solver:
         for k, body in enumerate(self.intruders):
             for name, val in meta["bodies"][k].items():
                 setattr(body.state, name, val)
-            body.contact.write_impulse(meta["impulse"][k])
+            # a checkpoint from before the front / rear split has no part from ahead: it restarts at 0
+            ahead = meta.get("impulse_ahead", [None] * len(self.intruders))[k]
+            body.contact.write_impulse(meta["impulse"][k], ahead)
             self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
-            # a checkpoint from before the front / rear split booked its whole impulse as ahead
-            # (write_impulse): its ahead mark is then the total mark
-            marks_ahead = meta.get("impulse_mark_ahead", meta["impulse_mark"])
-            self._impulse_mark_ahead[k] = np.asarray(marks_ahead[k])
+            self._impulse_mark_ahead[k] = np.asarray(meta.get("impulse_mark_ahead", [np.zeros(3)] * len(self.intruders))[k])
 
     @classmethod
     def resume(cls, run_dir: str | Path) -> "Solver":
