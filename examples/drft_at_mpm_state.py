@@ -89,6 +89,26 @@ def mpm_ahead(run: Path, t0: float, t1: float) -> np.ndarray | None:
     return np.array([[float(r["fx_ahead"]), float(r["fz_ahead"])] for r in rows]).mean(axis=0)
 
 
+def plot_halves(parts: list[dict], path: Path) -> None:
+    """Bars of fx and fz ahead of / behind the wheel centre: DRFT (paper) and, where recorded, MPM."""
+    halves = [r for r in parts if r["part"].startswith("all parts")]
+    keys = list(dict.fromkeys((r["omega_rpm"], r["model"]) for r in halves))
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for ax, field in zip(axes, ("fx", "fz")):
+        for i, (w, model) in enumerate(keys):
+            for j, half in enumerate(("front", "rear")):
+                v = [r[field] for r in halves if (r["omega_rpm"], r["model"]) == (w, model) and r["part"].endswith(half)][0]
+                color = ("k" if model == "MPM" else "C1") if half == "front" else ("0.6" if model == "MPM" else "#f5c38f")
+                ax.bar(i + 0.4 * j - 0.2, v, width=0.38, color=color, label=f"{model}, {'ahead of' if half == 'front' else 'behind'} the centre" if i < 2 else None)  # fmt: skip
+        ax.set_xticks(range(len(keys)), [f"{w:g} RPM\n{m}" for w, m in keys], fontsize=7)
+        ax.set_ylabel(f"mean {field} on the wheel (N)")
+        ax.axhline(0.0, color="0.5", lw=0.8)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=4, fontsize=7)
+    fig.suptitle("Force ahead of and behind the wheel centre, along the MPM's motion")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.savefig(path, dpi=120)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+", type=Path, help="finished MPM wheel run folders")
@@ -156,6 +176,7 @@ def main() -> None:
             w = csv.DictWriter(f, fieldnames=list(parts[0]))
             w.writeheader()
             w.writerows(parts)
+        plot_halves(parts, args.out.with_name(args.out.name + "_parts.png"))
     labels = list(dict.fromkeys(r["model"] for r in rows))
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
     for ax, field, unit in zip(axes, FIELDS, ("N", "N", "N m")):
