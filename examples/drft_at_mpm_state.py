@@ -13,11 +13,15 @@ Models: the paper's DRFT (rear-half split), the effective split, quasistatic RFT
 calibrated force model given with --calibration NAME=JSON (an `intrusim calibrate` output), and
 the paper's DRFT with other grouser-shadowing factors (--lug-scale S: grousers S x their true
 height; the paper's 1/3).
-Writes OUT.csv (one row per run and model) and OUT.png (fx, fz and moment against omega).
+Writes OUT.csv (one row per run and model) and OUT.png (fx, fz and moment against omega); with
+--parts also OUT_parts.csv and OUT_parts.png: the paper's DRFT force by part (rim, grouser sides,
+grouser tips) ahead of and behind the wheel centre, and the MPM's own ahead / behind split where
+its time series has it (fx_ahead, fz_ahead: runs made or extended since that column exists).
 
-    python examples/drft_at_mpm_state.py runs/settled/* --last 1.0 \
+    python examples/drft_at_mpm_state.py runs/settled/* runs/digging/90 --last 1.0 --parts \
         --calibration "4p fit (settled)=docs/figures/calibration_wheel_band0_settled_4p.json" \
         --out docs/figures/drft_at_mpm_state
+    python examples/drft_at_mpm_state.py runs/split/* --last 0.5 --parts --out docs/figures/drft_at_mpm_state_split
 """
 
 from __future__ import annotations
