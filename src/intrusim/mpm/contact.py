@@ -175,12 +175,14 @@ class PolygonContact:
 
     def read_impulse(self) -> np.ndarray:
         """Cumulative impulse on the body (Jx, Jz per unit width N s/m; angular N s)."""
-        j = self.impulse[0]
-        return np.array([j[0], j[1], j[2]])
+        return self._read(0)
 
     def read_impulse_ahead(self) -> np.ndarray:
         """The part of :meth:`read_impulse` from the nodes ahead of the body's reference point."""
-        j = self.impulse[1]
+        return self._read(1)
+
+    def _read(self, i: int) -> np.ndarray:
+        j = self.impulse[i]  # one element: ~6 us, against ~100 us for to_numpy
         return np.array([j[0], j[1], j[2]])
 
     def write_impulse(self, impulse, ahead=None) -> None:

@@ -191,17 +191,15 @@ class Solver:
         row: dict = {"time": self.t, "step": self.step_count}
         for k, body in enumerate(self.intruders):
             pre = "" if k == 0 else f"b{k}_"
-            impulse, ahead = body.contact.read_impulse(), body.contact.read_impulse_ahead()
-            f = (impulse - self._impulse_mark[k]) / elapsed if elapsed > 0 else np.zeros(3)
-            fa = (ahead - self._impulse_mark_ahead[k]) / elapsed if elapsed > 0 else np.zeros(3)
-            self._impulse_mark[k], self._impulse_mark_ahead[k] = impulse, ahead
             st = body.state
             row.update({f"{pre}{n}": getattr(st, n) for n in ("x", "z", "theta", "vx", "vz", "omega")})
-            row.update({f"{pre}fx": f[0] * body.width, f"{pre}fz": f[1] * body.width,
-                        f"{pre}moment": f[2] * body.width})
-            # the part from the grid nodes ahead of the reference point (x > x_body); behind = total - ahead
-            row.update({f"{pre}fx_ahead": fa[0] * body.width, f"{pre}fz_ahead": fa[1] * body.width,
-                        f"{pre}moment_ahead": fa[2] * body.width})
+            # the total, then the part from the grid nodes ahead of the reference point (x > x_body;
+            # behind = total - ahead)
+            for suffix, impulse, marks in (("", body.contact.read_impulse(), self._impulse_mark),
+                                           ("_ahead", body.contact.read_impulse_ahead(), self._impulse_mark_ahead)):
+                f = (impulse - marks[k]) / elapsed if elapsed > 0 else np.zeros(3)
+                marks[k] = impulse
+                row.update({f"{pre}{n}{suffix}": f[i] * body.width for i, n in enumerate(("fx", "fz", "moment"))})
         ke, mass = self.grain_energy_and_mass()
         row.update({"kinetic_energy": ke, "grain_mass": mass})
         self._step_mark = self.step_count
