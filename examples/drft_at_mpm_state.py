@@ -141,20 +141,19 @@ def main() -> None:
     for run in args.runs:
         meta = json.loads((run / "locomotion.json").read_text())
         scenario = LocomotorScenario.model_validate(meta["scenario"])
-        end = float(np.max(summarise_run(run, t_start=0.0).series["time"]))
-        s = summarise_run(run, t_start=end - args.last).series
-        win = s["time"] >= end - args.last
+        s = summarise_run(run, t_start=0.0).series  # the whole series (the window is cut below)
+        win = s["time"] >= float(np.max(s["time"])) - args.last
         s = {k: np.asarray(v)[win] for k, v in s.items()}
         base = {"run": run.name, "omega_rpm": float(meta["omega_rpm"]), "t0": float(s["time"][0]),
                 "t1": float(s["time"][-1]), "samples": int(win.sum()), "velocity": float(np.mean(s["vx"])),
                 "sinkage": float(np.mean(s["sinkage"]))}  # fmt: skip
         mpm = np.array([np.mean(s[f]) for f in FIELDS])
         rows.append({**base, "model": "MPM", **dict(zip(FIELDS, mpm))})
-        for label, model in models(scenario, calibrations, args.lug_scale).items():
+        built = models(scenario, calibrations, args.lug_scale)
+        for label, model in built.items():
             rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
         if args.parts:
-            paper = models(scenario, {}, [])["DRFT (paper)"]
-            split = part_forces(paper, s, meta["settings"]["bed_depth"])
+            split = part_forces(built["DRFT (paper)"], s, meta["settings"]["bed_depth"])
             for half in ("front", "rear"):
                 split[f"all parts, {half}"] = sum(v for k, v in split.items() if k.endswith(half))
             entries = [("DRFT (paper)", name, f) for name, f in split.items()]
@@ -164,11 +163,10 @@ def main() -> None:
             for model_name, name, (fx, fz) in entries:
                 parts.append({"run": run.name, "omega_rpm": base["omega_rpm"], "model": model_name, "part": name, "fx": fx, "fz": fz})
         print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
-        for r in rows[-(len(calibrations) + len(args.lug_scale) + 4):]:
+        for r in (r for r in rows if r["run"] == run.name):
             print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
-        for r in parts if args.parts else []:
-            if r["run"] == run.name:
-                print(f"    {r['model']}, {r['part']:<20s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N")
+        for r in (r for r in parts if r["run"] == run.name):
+            print(f"    {r['model']}, {r['part']:<20s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N")
 
     args.out.parent.mkdir(parents=True, exist_ok=True)
     with args.out.with_suffix(".csv").open("w", newline="") as f:
