@@ -52,8 +52,11 @@ def run(args: argparse.Namespace) -> None:
         domain=domain, cells=cells, t_max=args.t_max, cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
     if args.bed_depth is not None:
         settings = settings.model_copy(update=dict(bed_depth=args.bed_depth))
+    if args.start_depth_mm:
+        settings = settings.model_copy(update=dict(start_depth=1e-3 * args.start_depth_mm))
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
+    tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -193,6 +196,8 @@ r.add_argument("--domain", type=float, nargs=2, metavar=("LX", "LZ"), default=No
                help="domain length and height, m (default: the paper's 1 m x 1 m); the bed depth is --bed-depth")
 r.add_argument("--bed-depth", type=float, default=None, metavar="M",
                help="undisturbed bed height, m (default: the scenario's, 0.3 m for the wheels)")
+r.add_argument("--start-depth-mm", type=float, default=0.0, metavar="MM",
+               help="start with the wheel's lowest point MM below the surface, embedded (default: resting on it)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")

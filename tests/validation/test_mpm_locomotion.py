@@ -6,6 +6,7 @@ and recorded in docs/results.md; these tests only check the direction of each ef
 
 import math
 
+import numpy as np
 import pytest
 
 from intrusim._checks import InputError
@@ -62,6 +63,27 @@ def test_bad_mpm_cases_fail_before_compute():
         mpm_config(sc, quick_settings("wheel").model_copy(update=dict(start_x=0.05)), 30.0)
     with pytest.raises(InputError, match="MPMLocomotion runs the 'mpm' model"):
         MPMLocomotion(scenario=sc, mpm=quick_settings("wheel")).run_steady("drft", 30.0)
+    with pytest.raises(InputError, match="start_depth"):
+        mpm_config(sc, quick_settings("wheel").model_copy(update=dict(start_depth=0.3)), 30.0)
+
+
+def test_embedded_start_places_the_wheel_below_the_surface_without_grains_inside():
+    """start_depth puts the lowest point of the true outline that far below the bed surface; the
+    bed leaves out the grains in the wheel's place, so the bed holds less mass than without."""
+    from intrusim.geometry import posed_polygon
+    from intrusim.mpm.solver import Solver
+
+    sc = grousered_wheel_scenario()
+    base = quick_settings("wheel").model_copy(update=dict(cpu_threads=1))
+    masses, lows = [], []
+    for depth in (0.0, 0.04):
+        cfg = mpm_config(sc, base.model_copy(update=dict(start_depth=depth)), 30.0)
+        body = cfg.intruders[0]
+        lows.append(float(posed_polygon(np.asarray(body.vertices), body.x, body.z, body.theta)[:, 1].min()))
+        masses.append(float(Solver(cfg).particles.to_numpy()["mass"].sum()))
+    assert lows[0] == pytest.approx(base.bed_depth + 0.5 * base.h)
+    assert lows[1] == pytest.approx(base.bed_depth - 0.04)
+    assert masses[1] < masses[0] * 0.995  # the wheel's submerged area, about 1 % of a 1 m bed
 
 
 def test_run_description_is_written_whole_or_not_at_all(tmp_path, monkeypatch):

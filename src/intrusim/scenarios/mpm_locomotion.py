@@ -47,6 +47,9 @@ class MPMSettings(Config):
     domain : (Lx, Lz) m; cells : grid cells (nx, nz); particles_per_cell : per direction.
     bed_depth : m, height of the undisturbed free surface above the floor.
     start_x : m, initial x of the body centre.
+    start_depth : m, initial depth of the body's lowest point below the bed surface, the grains
+        in its place left out (0: the body starts resting half a cell above the bed, as in the
+        paper; > 0: it starts embedded, without the bulge that sinking in would push up).
     rho_c, mu_s : poppy seeds (Table S1): 638 kg/m^3, 0.56.
     mu_w : body-grain friction (Table S1: 0.35).
     youngs_modulus, poisson_ratio : numerical elastic stiffness (the paper does not give it).
@@ -70,6 +73,7 @@ class MPMSettings(Config):
     particles_per_cell: int = Field(2, ge=1, le=4)
     bed_depth: float = Field(0.3, gt=0.0)
     start_x: float = Field(0.16, gt=0.0)
+    start_depth: float = Field(0.0, ge=0.0)
     rho_c: float = Field(638.0, gt=0.0)
     mu_s: float = Field(0.56, ge=0.0)
     mu_w: float = Field(0.35, ge=0.0)
@@ -179,7 +183,10 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
     s = settings
     outline = scenario.rft_shape().polygon  # the TRUE outline (lug shadowing only affects RFT elements)
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
-    z0 = s.bed_depth - float(outline[:, 1].min()) + 0.5 * s.h  # lowest point half a cell above the bed
+    if s.start_depth >= s.bed_depth:
+        raise InputError(f"start_depth ({s.start_depth:g} m) must be less than the bed depth ({s.bed_depth:g} m)")
+    # lowest point half a cell above the bed, or start_depth below it
+    z0 = s.bed_depth - float(outline[:, 1].min()) + (0.5 * s.h if s.start_depth == 0.0 else -s.start_depth)
     if s.start_x - radius < s.h or z0 + radius > s.domain[1] - s.h:
         raise InputError(f"the body (radius {radius:.3g} m) does not fit in the domain at start_x={s.start_x}")
     return MPMConfig(
