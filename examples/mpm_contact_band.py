@@ -9,6 +9,8 @@ law with a chosen band.
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0    # ~35 min, one thread
     python examples/mpm_contact_band.py wheel 90 --cell-mm 2.5 --small     # the Fig S1 wheel, ~32 min
     python examples/mpm_contact_band.py wheel 90 --cell-mm 1.25 --small --band 0 --domain 0.6 0.5 --t-max 1.25  # ~1 h
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
+        --start-depth-mm 46 --t-max 4.0 --out runs/embedded  # starts embedded, ~23 min on 1 thread
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
