@@ -24,29 +24,11 @@ import json
 import shutil
 from pathlib import Path
 
-import numpy as np
-
 from intrusim.mpm import io as mpm_io
 from intrusim.mpm.config import MPMConfig
+from intrusim.mpm.particles import split_points
 from intrusim.mpm.solver import CHECKPOINT, Solver
 from intrusim.scenarios.mpm_locomotion import summarise_run
-
-
-def split_points(arrays: dict[str, np.ndarray], spacing: float, factor: int) -> dict[str, np.ndarray]:
-    """Each point -> factor^2 points on a sub-lattice of its own (undeformed) spacing.
-
-    Mass and volume are shared out equally; the children carry the APIC velocity at their place,
-    v + C (x_child - x); C, stress and plastic strain are copied."""
-    frac = (np.arange(factor) + 0.5) / factor - 0.5
-    offsets = spacing * np.array([(a, b) for a in frac for b in frac])  # (factor^2, 2)
-    n, k = len(arrays["x"]), len(offsets)
-    out = {name: np.repeat(a, k, axis=0) for name, a in arrays.items()}
-    d = np.tile(offsets, (n, 1))
-    out["x"] = out["x"] + d
-    out["v"] = out["v"] + np.einsum("nij,nj->ni", out["C"], d)
-    out["mass"] = out["mass"] / k
-    out["vol"] = out["vol"] / k
-    return out
 
 
 def refined_config(run: Path, factor: int, t_end: float, threads: int, out: Path) -> MPMConfig:

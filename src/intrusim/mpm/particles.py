@@ -61,3 +61,28 @@ class Particles:
     def to_numpy(self, names: list[str] | None = None) -> dict[str, np.ndarray]:
         """Copy device arrays to the host (a synchronisation: do it only at output times)."""
         return {k: self.arrays[k].to_numpy() for k in (names or list(FIELDS))}
+
+
+def split_points(arrays: dict[str, np.ndarray], spacing: float, factor: int) -> dict[str, np.ndarray]:
+    """Each point -> factor^2 points on a sub-lattice of its (undeformed) spacing, for finer cells.
+
+    x_child = x + d, d on a factor x factor lattice of step spacing / factor centred on x;
+    mass and volume are shared out equally; v_child = v + C d (the APIC field at the child), so
+    mass, momentum and the centre of mass are kept; C, stress and plastic strain are copied.
+    """
+    if factor < 1 or int(factor) != factor:
+        raise ValueError(f"factor must be a positive integer, got {factor!r}")
+    if not spacing > 0:
+        raise ValueError(f"spacing must be > 0, got {spacing!r}")
+    frac = (np.arange(factor) + 0.5) / factor - 0.5
+    offsets = spacing * np.array([(a, b) for a in frac for b in frac])  # (factor^2, 2)
+    n, k = len(arrays["x"]), len(offsets)
+    out = {name: np.repeat(np.asarray(a), k, axis=0) for name, a in arrays.items()}
+    d = np.tile(offsets, (n, 1))
+    out["x"] = out["x"] + d
+    if "C" in out and "v" in out:
+        out["v"] = out["v"] + np.einsum("nij,nj->ni", out["C"], d)
+    for name in ("mass", "vol"):
+        if name in out:
+            out[name] = out[name] / k
+    return out
