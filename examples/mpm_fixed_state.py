@@ -46,6 +46,11 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
         cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
     payload = mpm_config(scenario, settings, args.rpm, out).model_dump()
     body = payload["intruders"][0]
+    radius = float(np.max(np.linalg.norm(np.asarray(body["vertices"]), axis=1)))
+    if not (settings.h < args.z - radius and args.z + radius < domain[1] - settings.h):
+        raise SystemExit(f"--z {args.z} puts the wheel (radius {radius:.3g} m) outside the {domain[1]:g} m high domain")
+    if args.z - radius >= args.bed_depth:
+        raise SystemExit(f"--z {args.z} puts the wheel above the bed surface ({args.bed_depth:g} m): no contact")
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -76,9 +81,8 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {out} in {meta['wall_s']:.0f} s")
 
 
-def window_means(run_dir: Path, window: float) -> dict[str, float]:
-    """Mean force, moment and their ahead parts over the last ``window`` seconds of a run."""
-    t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
+def window_means(t: np.ndarray, window: float) -> dict[str, float]:
+    """Mean force, moment and their ahead parts over the last ``window`` seconds of a time series."""
     t_end = float(t["time"][-1])
     sel = t["time"] > t_end - window + 1e-9
     cols = ("fx", "fz", "moment", "fx_ahead", "fz_ahead", "moment_ahead")
@@ -102,8 +106,9 @@ def table(args: argparse.Namespace) -> None:
             if not (run_dir / "timeseries.csv").exists():
                 continue
             meta = json.loads(meta_path.read_text())
-            rows.append({**meta, **window_means(run_dir, args.window), "run": str(run_dir)})
-            series.append((meta, np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)))
+            t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
+            rows.append({**meta, **window_means(t, args.window), "run": str(run_dir)})
+            series.append((meta, t))
     if not rows:
         raise SystemExit("no fixed-state run folders found")
     rows.sort(key=lambda r: (r["z"], r["vx"], -r["cell_mm"]))
