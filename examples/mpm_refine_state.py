@@ -51,8 +51,9 @@ def main() -> None:
     if args.factor < 2 or args.t_more <= 0:
         ap.error("--factor must be >= 2 and --t-more > 0")
     src = args.run / CHECKPOINT
-    if not src.exists():
-        raise SystemExit(f"{args.run} has no {CHECKPOINT}")
+    for need in (src, args.run / "locomotion.json"):
+        if not need.exists():
+            raise SystemExit(f"{args.run} has no {need.name}: not a finished or checkpointed locomotion run")
     arrays, meta = mpm_io.load_checkpoint(src)
     t0 = int(meta["step_count"]) * float(meta["dt"])
     out = args.out / f"{args.run.name}_x{args.factor}"
