@@ -54,18 +54,19 @@ def main() -> None:
     for need in (src, args.run / "locomotion.json"):
         if not need.exists():
             raise SystemExit(f"{args.run} has no {need.name}: not a finished or checkpointed locomotion run")
-    arrays, meta = mpm_io.load_checkpoint(src)
-    t0 = int(meta["step_count"]) * float(meta["dt"])
     out = args.out / f"{args.run.name}_x{args.factor}"
-    cfg = refined_config(args.run, args.factor, t0 + args.t_more, args.threads, out)
     own = out / CHECKPOINT
-    if own.exists():  # resume: the particle count is the split one, not a fresh bed's
-        solver = Solver(cfg, particles=mpm_io.load_checkpoint(own)[0])
+    if own.exists():  # resume: time origin as recorded (the source run may have gone on since)
+        t0 = float(json.loads((out / "locomotion.json").read_text())["refined_from"]["t"])
+        cfg = refined_config(args.run, args.factor, t0 + args.t_more, args.threads, out)
+        solver = Solver(cfg, particles=mpm_io.load_checkpoint(own)[0])  # the split count, not a fresh bed's
         solver.load_checkpoint(own)
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     else:
-        src_cfg = MPMConfig.model_validate(json.loads((args.run / "config.json").read_text())["config"])
-        spacing = src_cfg.domain.size[0] / src_cfg.domain.cells[0] / src_cfg.domain.particles_per_cell
+        arrays, meta = mpm_io.load_checkpoint(src)
+        t0 = int(meta["step_count"]) * float(meta["dt"])
+        cfg = refined_config(args.run, args.factor, t0 + args.t_more, args.threads, out)
+        spacing = args.factor * cfg.domain.size[0] / cfg.domain.cells[0] / cfg.domain.particles_per_cell
         solver = Solver(cfg, particles=split_points(arrays, spacing, args.factor))
         solver.step_count = int(round(t0 / solver.dt))
         solver._step_mark = solver.step_count  # forces averaged from here
