@@ -77,6 +77,7 @@ def steady(
     model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
 ) -> None:
     """Steady-state speed, sinkage and slip of a driven wheel or runner."""
     from intrusim.analysis.steady import NoContactError, run_steady
@@ -84,7 +85,7 @@ def steady(
     from intrusim.scenarios import load_scenario
 
     try:
-        scn = load_scenario(scenario)
+        scn = with_rft_table(load_scenario(scenario), rft_coefficients)
         st = run_steady(scn, model, omega_rpm, lam)
     except (InputError, IntegratorError, NoContactError) as err:
         _fail(err)
@@ -97,6 +98,21 @@ def steady(
         f"{st.velocity:8.4f} | {st.sinkage * 1e3:10.2f} | {st.slip:6.3f} | {st.velocity / scn.velocity_scale:10.4f} | "
         f"{st.sinkage / scn.length_scale:9.4f} | {st.omega / scn.omega_0:12.3f}"
     )
+
+
+def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
+    """The scenario with its RFT coefficient table read from ``path`` (None: unchanged).
+
+    The path is stored absolute (sweep workers may run elsewhere) and read once here, so a
+    missing or malformed file fails before any compute.
+    """
+    if path is None:
+        return scn
+    from intrusim.laws.rft import load_coefficients
+
+    load_coefficients(path)
+    fm = scn.force_model.model_copy(update={"rft_coefficients": str(Path(path).resolve())})
+    return scn.model_copy(update={"force_model": fm})
 
 
 def _parse_rpm(text: str) -> list[float]:
@@ -119,13 +135,14 @@ def sweep(
     parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
     scheduler_address: Optional[str] = typer.Option(None, help="Existing Dask scheduler (default: a LocalCluster)."),
     csv: Optional[Path] = typer.Option(None, help="Also write the records to this CSV file."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
     from intrusim.analysis.sweep import sweep_omega
     from intrusim.scenarios import load_scenario
 
     try:
-        scn = load_scenario(scenario)
+        scn = with_rft_table(load_scenario(scenario), rft_coefficients)
         res = sweep_omega(scn, model, _parse_rpm(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address)
     except InputError as err:
         _fail(err)
@@ -204,6 +221,7 @@ def calibrate(
     starts: int = typer.Option(8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
@@ -216,7 +234,7 @@ def calibrate(
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
         if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
             raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
-        start = _locomotor(scenario)
+        start = with_rft_table(_locomotor(scenario), rft_coefficients)
         if structural is not None:
             start = start.model_copy(update=dict(force_model=start.force_model.model_validate({**start.force_model.model_dump(), "structural": structural})))
         start = with_mpm_push(start) if mpm_push else start
@@ -232,14 +250,14 @@ def calibrate(
             label, sep, path = item.partition("=")
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
-            s = _locomotor(label.strip())
+            s = with_rft_table(_locomotor(label.strip()), rft_coefficients)
             checks.append(Check(label.strip(), with_mpm_push(s) if mpm_push else s, load_reference(path.strip(), s.name)))
         res = fit(start, ref, names, kind=model, starts=starts)
     except (InputError, ValueError) as err:
         _fail(err)
     meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
                         "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
-                        "starts": starts}}  # fmt: skip
+                        "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients)}}  # fmt: skip
     paths = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
     c = res.comparison
     typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")

@@ -28,7 +28,7 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
     MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
-from intrusim.laws.rft import A_COEF, B_COEF, C_COEF, D_COEF, N_PER_CM3, rft_traction
+from intrusim.laws.rft import LI2013, N_PER_CM3, _table, rft_traction
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
 Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
@@ -240,7 +240,7 @@ def _wrench_kernel(
     return fx, fz, mom
 
 
-_COEF = np.ascontiguousarray(np.stack([A_COEF, B_COEF, C_COEF, D_COEF]))
+_COEF = np.ascontiguousarray(LI2013)
 
 
 @dataclass(frozen=True)
@@ -255,6 +255,8 @@ class ResistiveForceModel:
     lam : lambda of the inertial correction (0 = none).
     free_surface : structural-correction model (FlatFreeSurface = none).
     surface_z : height of the undisturbed free surface, m.
+    coef : (4, 3, 2) RFT coefficient table [A, B, C, D][m + 1, n] in N/cm^3, scaled by xi
+        (None: the generic Li 2013 fit; ``laws.rft.load_coefficients`` reads a measured one).
     """
 
     elements: SurfaceElements
@@ -263,9 +265,11 @@ class ResistiveForceModel:
     lam: float = 0.0
     free_surface: FreeSurfaceModel = field(default_factory=FlatFreeSurface)
     surface_z: float = 0.0
+    coef: np.ndarray | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         non_negative("xi", self.xi)
+        object.__setattr__(self, "_coef", _COEF if self.coef is None else np.ascontiguousarray(_table(self.coef)))
         non_negative("rho", self.rho)
         non_negative("lambda", self.lam)
         finite("surface_z", self.surface_z)
@@ -290,7 +294,7 @@ class ResistiveForceModel:
             return tuple(self.wrench_numpy(BodyState(x, z, theta, vx, vz, omega)).as_array())  # type: ignore[return-value]
         return _wrench_kernel(
             self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
-            _COEF, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
+            self._coef, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
         )  # fmt: skip
 
     def compiled_spec(self) -> tuple | None:
@@ -314,7 +318,7 @@ class ResistiveForceModel:
         else:
             return None
         return (
-            self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), _COEF,
+            self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), self._coef,
             self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g,
         )  # fmt: skip
 
@@ -324,7 +328,7 @@ class ResistiveForceModel:
         centre = np.array([state.x, state.z])
         dh = self.free_surface.depth_shift(motion.position, centre, state.omega, state.vx, self.surface_z)
         depth = motion.position[:, 1] - self.surface_z + dh
-        t = rft_traction(motion.normal, motion.velocity, depth, self.xi)
+        t = rft_traction(motion.normal, motion.velocity, depth, self.xi, self.coef)
         t += np.where((depth < 0)[:, None], inertial_traction(motion.normal, motion.velocity, self.rho, self.lam), 0.0)
         return motion.position, t
 
@@ -353,6 +357,7 @@ def make_force_model(
     surface_z: float = 0.0,
     elements: SurfaceElements | None = None,
     psi: Callable[[float], float] = identity_psi,
+    coef: np.ndarray | None = None,
 ) -> ResistiveForceModel:
     """Build one of the paper's force models for ``shape``.
 
@@ -366,12 +371,14 @@ def make_force_model(
     psi
         free-surface law of the wheel structural correction, dh = r psi(r omega^2 / g) (paper:
         the identity; :func:`~intrusim.laws.drft.free_surface_law` builds a fitted affine one).
+    coef
+        RFT coefficient table (N/cm^3, scaled by xi); None: the generic Li (2013) fit.
     """
     els = shape.elements if elements is None else elements
     if kind == "rft":
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=0.0, surface_z=surface_z)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=0.0, surface_z=surface_z, coef=coef)
     if kind == "drft-inertial":
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, surface_z=surface_z)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, surface_z=surface_z, coef=coef)
     if kind == "drft":
         if structural not in STRUCTURAL_MODELS:
             raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
@@ -380,5 +387,5 @@ def make_force_model(
             fs = WheelRearHalf(shape.radius, psi=psi)
         elif structural == "wheel-rear-half-effective":
             fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef)
     raise InputError(f"force model kind must be 'rft', 'drft-inertial' or 'drft', got {kind!r}")

@@ -66,3 +66,22 @@ def test_reproduce_mpm_takes_the_sweep_csv_of_a_runs_folder_without_run_folders(
 def test_reproduce_unknown_figure():
     r = runner.invoke(app, ["reproduce", "fig99"])
     assert r.exit_code == 2 and "unknown figure" in r.output
+
+
+def test_steady_with_an_rft_table(tmp_path):
+    from intrusim.analysis.rft_fit import write_coefficients
+    from intrusim.analysis.steady import run_steady
+    from intrusim.laws.rft import LI2013
+    from intrusim.scenarios import get_scenario
+
+    table = write_coefficients(tmp_path / "t.json", 2 * LI2013)  # twice the generic table = xi x 2
+    r = runner.invoke(app, ["steady", "--model", "rft", "--omega-rpm", "30", "--rft-coefficients", str(table)])
+    assert r.exit_code == 0, r.output
+    plain = runner.invoke(app, ["steady", "--model", "rft", "--omega-rpm", "30"])
+    assert r.output.splitlines()[-1] != plain.output.splitlines()[-1]  # the table is used
+    sc = get_scenario("wheel")
+    sc.force_model.xi *= 2
+    st = run_steady(sc, "rft", 30.0, None)
+    assert r.output.splitlines()[-1].split("|")[:2] == [f"{st.velocity:8.4f} ", f" {st.sinkage * 1e3:10.2f} "]
+    bad = runner.invoke(app, ["steady", "--rft-coefficients", str(tmp_path / "none.json")])
+    assert bad.exit_code == 2 and "not found" in bad.output

@@ -16,9 +16,13 @@ the sign of alpha_x.
 
 from __future__ import annotations
 
+import json
+import tomllib
+from pathlib import Path
+
 import numpy as np
 
-from intrusim._checks import non_negative
+from intrusim._checks import InputError, non_negative
 from intrusim.params import li2013_coefficients
 
 N_PER_CM3 = 1.0e6  # N/cm^3 -> N/m^3
@@ -40,16 +44,53 @@ def li2013_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
 
 
 A_COEF, B_COEF, C_COEF, D_COEF = li2013_tables()
+LI2013 = np.stack([A_COEF, B_COEF, C_COEF, D_COEF])  # (4, 3, 2): [A, B, C, D][m + 1, n], N/cm^3
 
 
-def alpha_fit(beta: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def coefficient_table(blocks: dict) -> np.ndarray:
+    """{"A": {"m,n": value}, ..., "D": {...}} (N/cm^3) -> (4, 3, 2) table; missing terms are zero."""
+    return np.stack([_coefficient_table(blocks.get(k, {})) for k in "ABCD"])
+
+
+def load_coefficients(path: str | Path) -> np.ndarray:
+    """A coefficient table from a TOML or JSON file laid out as ``data/rft_li2013.toml`` (N/cm^3).
+
+    ``intrusim.analysis.rft_fit.write_coefficients`` writes such a JSON from a measured map.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"RFT coefficient file {str(path)!r} not found")
+    text = path.read_text()
+    data = tomllib.loads(text) if path.suffix == ".toml" else json.loads(text)
+    if data.get("units", "N/cm^3") != "N/cm^3":
+        raise InputError(f"{path}: RFT coefficients must be in N/cm^3, got {data['units']!r}")
+    if not any(k in data for k in "ABCD"):
+        raise InputError(f"{path}: no coefficient blocks A, B, C, D")
+    table = coefficient_table(data)
+    if not np.all(np.isfinite(table)):
+        raise InputError(f"{path}: non-finite coefficients")
+    return table
+
+
+def _table(coef: np.ndarray | None) -> np.ndarray:
+    if coef is None:
+        return LI2013
+    coef = np.asarray(coef, float)
+    if coef.shape != (4, 3, 2):
+        raise InputError(f"an RFT coefficient table has shape (4, 3, 2), got {coef.shape}")
+    return coef
+
+
+def alpha_fit(beta: np.ndarray, gamma: np.ndarray, coef: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The raw Li (2013) discrete Fourier fit, without symmetry extension (N/cm^3).
 
     alpha_z = sum_{m=-1..1, n=0..1} A_mn cos(2 m beta + n gamma) + B_mn sin(2 m beta + n gamma)
     alpha_x = sum_{m=-1..1, n=0..1} C_mn cos(2 m beta + n gamma) + D_mn sin(2 m beta + n gamma)
 
-    Valid for beta, gamma in [-pi/2, pi/2]; use :func:`alpha` for any angles.
+    Valid for beta, gamma in [-pi/2, pi/2]; use :func:`alpha` for any angles. ``coef``: a
+    (4, 3, 2) table [A, B, C, D][m + 1, n] in N/cm^3 (default: the generic one, :data:`LI2013`).
     """
+    A, B, C, D = _table(coef)
     beta = np.asarray(beta, float)
     gamma = np.asarray(gamma, float)
     ax = np.zeros(np.broadcast(beta, gamma).shape)
@@ -58,8 +99,8 @@ def alpha_fit(beta: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarr
         for n in (0, 1):
             arg = 2 * m * beta + n * gamma
             ca, sa = np.cos(arg), np.sin(arg)
-            az = az + A_COEF[m + 1, n] * ca + B_COEF[m + 1, n] * sa
-            ax = ax + C_COEF[m + 1, n] * ca + D_COEF[m + 1, n] * sa
+            az = az + A[m + 1, n] * ca + B[m + 1, n] * sa
+            ax = ax + C[m + 1, n] * ca + D[m + 1, n] * sa
     return ax, az
 
 
@@ -68,7 +109,9 @@ def wrap_beta(beta: np.ndarray) -> np.ndarray:
     return (np.asarray(beta, float) + 0.5 * np.pi) % np.pi - 0.5 * np.pi
 
 
-def alpha(beta: np.ndarray, gamma: np.ndarray, xi: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def alpha(
+    beta: np.ndarray, gamma: np.ndarray, xi: float = 1.0, coef: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Stress per unit depth (alpha_x, alpha_z) for any beta and gamma, in N/m^3 (Eq. 3).
 
     The generic fit is scaled by the media coefficient ``xi`` (poppy seeds: 0.35). Directions
@@ -79,6 +122,8 @@ def alpha(beta: np.ndarray, gamma: np.ndarray, xi: float = 1.0) -> tuple[np.ndar
     beta : array, rad. Element orientation (see module docstring).
     gamma : array, rad. Velocity direction, atan2(-v_z, -v_x).
     xi : float, >= 0. Media scaling coefficient.
+    coef : (4, 3, 2) table in N/cm^3 (default: the generic fit); e.g. one measured on the MPM
+        medium (``intrusim.analysis.rft_fit``), usually with xi = 1.
     """
     xi = non_negative("xi", xi)
     b = wrap_beta(beta)
@@ -86,7 +131,7 @@ def alpha(beta: np.ndarray, gamma: np.ndarray, xi: float = 1.0) -> tuple[np.ndar
     mirror = np.abs(g) > 0.5 * np.pi
     g_fit = np.where(mirror, np.sign(g) * np.pi - g, g)
     b_fit = np.where(mirror, -b, b)
-    ax, az = alpha_fit(b_fit, g_fit)
+    ax, az = alpha_fit(b_fit, g_fit, coef)
     ax = np.where(mirror, -ax, ax)
     return xi * N_PER_CM3 * ax, xi * N_PER_CM3 * az
 
@@ -107,6 +152,7 @@ def rft_traction(
     velocity: np.ndarray,
     depth: np.ndarray,
     xi: float,
+    coef: np.ndarray | None = None,
 ) -> np.ndarray:
     """Quasistatic RFT traction t = alpha(beta, gamma) H(-z) |z| on leading elements (Eq. 3), N/m^2.
 
@@ -117,6 +163,7 @@ def rft_traction(
     depth : (N,) height of each element relative to the (effective) free surface, m;
         negative below the surface (the paper's z, or z~ = z + dh for DRFT).
     xi : media scaling coefficient.
+    coef : (4, 3, 2) coefficient table in N/cm^3 (default: the generic fit).
 
     Elements that do not move into the medium (n . v <= 0, the leading-edge rule) or lie
     above the surface get zero traction.
@@ -125,7 +172,7 @@ def rft_traction(
     v = np.asarray(velocity, float)
     z = np.asarray(depth, float)
     beta, gamma = element_angles(n, v)
-    ax, az = alpha(beta, gamma, xi)
+    ax, az = alpha(beta, gamma, xi, coef)
     leading = np.einsum("ij,ij->i", n, v) > 0.0
     active = leading & (z < 0.0)
     scale = np.where(active, -z, 0.0)

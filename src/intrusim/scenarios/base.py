@@ -18,6 +18,7 @@ from intrusim._checks import InputError
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
 from intrusim.laws.drft import free_surface_law
+from intrusim.laws.rft import load_coefficients
 
 ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
 
@@ -61,6 +62,9 @@ class ForceModelConfig(Config):
     psi_slope, psi_offset : free-surface law of the structural correction,
         dh = r psi(r omega^2 / g) with psi(x) = psi_offset + psi_slope x (dimensionless; the
         paper: the identity, 1 and 0; fitted on MPM by :mod:`intrusim.analysis.calibration`).
+    rft_coefficients : file of an RFT coefficient table (TOML or JSON, N/cm^3, laid out as
+        ``data/rft_li2013.toml``; e.g. one measured on the MPM medium by
+        ``examples/mpm_rft_map.py``), scaled by xi. None: the generic Li (2013) fit.
     """
 
     xi: float = Field(0.35, ge=0.0)
@@ -69,6 +73,7 @@ class ForceModelConfig(Config):
     structural: Literal["none", "wheel-rear-half", "wheel-rear-half-effective"] = "none"
     psi_slope: float = Field(1.0, ge=0.0, allow_inf_nan=False)
     psi_offset: float = Field(0.0, allow_inf_nan=False)
+    rft_coefficients: str | None = None
 
 
 class RunConfig(Config):
@@ -142,4 +147,7 @@ class ModelKindsMixin(Config):
         if lam_v < 0 or not math.isfinite(lam_v):
             raise InputError(f"lambda must be a finite number >= 0, got {lam!r}")
         psi = free_surface_law(fm.psi_slope, fm.psi_offset)
-        return make_force_model(kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi)
+        coef = None if fm.rft_coefficients is None else load_coefficients(fm.rft_coefficients)
+        return make_force_model(
+            kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi, coef=coef
+        )
