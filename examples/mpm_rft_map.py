@@ -182,5 +182,30 @@ def fit(
     typer.echo(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in info.items()}, indent=1))
 
 
+@app.command()
+def table(
+    runs: list[Path] = typer.Argument(..., help="map run folders (each holds alpha_map.csv)"),
+    out: Path = typer.Option(..., help="CSV: every case of every folder, one row each, with the folder name"),
+) -> None:
+    """Gather maps of other plate lengths, depths or cells into one table (alpha in N/m^3)."""
+    keys = ["plate_length", "depth", "depth_mean", "cell_size", "beta", "gamma", "alpha_x", "alpha_z",
+            "alpha_x_std", "alpha_z_std", "wall_s"]  # fmt: skip
+    rows = []
+    for run in runs:
+        m = read_map(run / "alpha_map.csv")
+        for i in range(len(m["beta"])):
+            rows.append({"run": run.name, **{k: float(m[k][i]) for k in keys}})
+    rows.sort(key=lambda r: (r["beta"], r["gamma"], r["plate_length"], r["depth"], r["cell_size"]))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["run", *keys])
+        w.writeheader()
+        w.writerows(rows)
+    for r in rows:
+        typer.echo(f"{r['run']:>10} beta {math.degrees(r['beta']):4.0f} gamma {math.degrees(r['gamma']):4.0f} "
+                   f"L {r['plate_length'] * 1e3:5.1f} mm depth {r['depth_mean'] * 1e3:5.1f} mm cell {r['cell_size'] * 1e3:4.2f} mm: "
+                   f"alpha_x {r['alpha_x']:8.0f} alpha_z {r['alpha_z']:8.0f}")  # fmt: skip
+
+
 if __name__ == "__main__":
     app()

@@ -1,0 +1,105 @@
+"""RFT force on the Table S1 wheel at a prescribed state, from the MPM medium's own plate map.
+
+Does superposing the MPM's plate responses (RFT's assumption) give the force the MPM grains put
+on the whole wheel? The wheel is held at centre height --z above the undisturbed surface (m),
+moving at --vx (m/s) and spinning forward at --rpm; the force is averaged over one revolution
+(720 angles). Models: the generic fit x 0.35 (the paper's RFT), the Li form fitted to the MPM map
+(--table, `examples/mpm_rft_map.py fit`), and the measured map itself, interpolated linearly in
+(beta, gamma) with the same mirror extension (--map, an alpha_map.csv on a regular grid).
+
+    python examples/rft_map_at_state.py --map runs/rftmap/base/alpha_map.csv \
+        --table docs/figures/rft_map_mpm.json --z 0.0602 --vx 0.148 --rpm 30
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from intrusim.kinematics import BodyState, element_motion
+from intrusim.laws.rft import alpha, element_angles, load_coefficients, wrap_beta
+from intrusim.scenarios import get_scenario
+
+
+def interpolated_map(path: Path):
+    """alpha(beta, gamma) (N/m^3) interpolated in a measured map on a regular (beta, gamma) grid."""
+    m = np.genfromtxt(path, delimiter=",", names=True)
+    b = np.round(np.degrees(m["beta"]), 6)
+    g = np.round(np.degrees(m["gamma"]), 6)
+    b = np.where(np.isclose(b, -90.0), 90.0, b)  # beta = -90 is beta = 90
+    bs = np.unique(np.concatenate([b, [-90.0] if 90.0 in b else []]))
+    gs = np.unique(g)
+    ax = np.full((len(bs), len(gs)), np.nan)
+    az = np.full_like(ax, np.nan)
+    for bi, gi, x, z in zip(b, g, m["alpha_x"], m["alpha_z"]):
+        for bb in ([90.0, -90.0] if bi == 90.0 else [bi]):
+            i, j = np.searchsorted(bs, bb), np.searchsorted(gs, gi)
+            ax[i, j], az[i, j] = x, z
+    if np.isnan(ax).any() or bs[0] > -90 or bs[-1] < 90 or gs[0] > -90 or gs[-1] < 90:
+        raise SystemExit(f"{path}: the map must be a full grid over beta, gamma in [-90, 90] degrees")
+    grid = (np.radians(bs), np.radians(gs))
+    fx, fz = RegularGridInterpolator(grid, ax), RegularGridInterpolator(grid, az)
+
+    def alpha_map(beta, gamma):
+        bw = wrap_beta(beta)
+        gw = (np.asarray(gamma) + np.pi) % (2 * np.pi) - np.pi
+        mirror = np.abs(gw) > 0.5 * np.pi
+        pts = np.column_stack([np.clip(np.where(mirror, -bw, bw), -0.5 * np.pi, 0.5 * np.pi),
+                               np.where(mirror, np.sign(gw) * np.pi - gw, gw)])  # fmt: skip
+        x, z = fx(pts), fz(pts)
+        return np.where(mirror, -x, x), z
+
+    return alpha_map
+
+
+def wrench(elements, state: BodyState, alpha_fn) -> np.ndarray:
+    """(fx, fz, moment) of RFT with the stress-per-depth function ``alpha_fn`` (surface at z = 0)."""
+    mo = element_motion(elements, state)
+    beta, gamma = element_angles(mo.normal, mo.velocity)
+    ax, az = alpha_fn(beta, gamma)
+    z = mo.position[:, 1]
+    active = (np.einsum("ij,ij->i", mo.normal, mo.velocity) > 0.0) & (z < 0.0)
+    f = np.column_stack([ax, az]) * np.where(active, -z, 0.0)[:, None] * elements.area[:, None]
+    return np.array([f[:, 0].sum(), f[:, 1].sum(), np.sum(mo.offset[:, 0] * f[:, 1] - mo.offset[:, 1] * f[:, 0])])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--map", type=Path, required=True, help="alpha_map.csv of examples/mpm_rft_map.py run")
+    ap.add_argument("--table", type=Path, required=True, help="the Li form fitted to it (JSON)")
+    ap.add_argument("--z", type=float, required=True, help="wheel centre above the undisturbed surface, m")
+    ap.add_argument("--vx", type=float, required=True, help="forward speed, m/s")
+    ap.add_argument("--rpm", type=float, required=True, help="forward spin, RPM (> 0)")
+    ap.add_argument("--out", type=Path, help="also write the table to this CSV")
+    args = ap.parse_args()
+    if args.rpm <= 0:
+        ap.error("--rpm must be > 0")
+    sc = get_scenario("wheel")
+    els = sc.rft_shape().elements
+    table = load_coefficients(args.table)
+    models = {
+        "generic x 0.35 (paper RFT)": lambda b, g: alpha(b, g, 0.35),
+        "Li form fitted to the MPM map": lambda b, g: alpha(b, g, 1.0, table),
+        "MPM map, interpolated": interpolated_map(args.map),
+    }
+    omega = -args.rpm * 2 * np.pi / 60
+    thetas = np.linspace(0.0, 2 * np.pi, 721)[:-1]
+    rows = []
+    for name, fn in models.items():
+        w = np.mean([wrench(els, BodyState(0.0, args.z, t, args.vx, 0.0, omega), fn) for t in thetas], axis=0)
+        rows.append({"model": name, "fx": w[0], "fz": w[1], "moment": w[2]})
+        print(f"{name:32s} fx {w[0]:7.2f} N  fz {w[1]:7.2f} N  moment {w[2]:6.3f} N m")
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        with args.out.open("w", newline="") as f:
+            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "model", "fx", "fz", "moment"])
+            w_.writeheader()
+            w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, **r} for r in rows)
+
+
+if __name__ == "__main__":
+    main()
