@@ -77,7 +77,7 @@ def steady(
     model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
 ) -> None:
     """Steady-state speed, sinkage and slip of a driven wheel or runner."""
     from intrusim.analysis.steady import NoContactError, run_steady
@@ -101,17 +101,19 @@ def steady(
 
 
 def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
-    """The scenario with its RFT coefficient table read from ``path`` (None: unchanged).
+    """The scenario with its RFT coefficient table read from ``path`` and xi = 1 (None: unchanged).
 
-    The path is stored absolute (sweep workers may run elsewhere) and read once here, so a
-    missing or malformed file fails before any compute.
+    A measured table is the medium's own, so it is used as it is (a calibration may still fit
+    xi, a scale of it, from 1). The path is kept as given (relative to the working folder, as
+    the sweep's local workers see it) and read once here, so a missing or malformed file fails
+    before any compute.
     """
     if path is None:
         return scn
     from intrusim.laws.rft import load_coefficients
 
     load_coefficients(path)
-    fm = scn.force_model.model_copy(update={"rft_coefficients": str(Path(path).resolve())})
+    fm = scn.force_model.model_copy(update={"rft_coefficients": str(path), "xi": 1.0})
     return scn.model_copy(update={"force_model": fm})
 
 
@@ -135,7 +137,7 @@ def sweep(
     parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
     scheduler_address: Optional[str] = typer.Option(None, help="Existing Dask scheduler (default: a LocalCluster)."),
     csv: Optional[Path] = typer.Option(None, help="Also write the records to this CSV file."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
     from intrusim.analysis.sweep import sweep_omega
@@ -221,7 +223,7 @@ def calibrate(
     starts: int = typer.Option(8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, scaled by xi."),
+    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit

@@ -74,13 +74,13 @@ def test_steady_with_an_rft_table(tmp_path):
     from intrusim.laws.rft import LI2013
     from intrusim.scenarios import get_scenario
 
-    table = write_coefficients(tmp_path / "t.json", 2 * LI2013)  # twice the generic table = xi x 2
+    table = write_coefficients(tmp_path / "t.json", 0.7 * LI2013)  # used as it is: the generic one with xi 0.7
     r = runner.invoke(app, ["steady", "--model", "rft", "--omega-rpm", "30", "--rft-coefficients", str(table)])
     assert r.exit_code == 0, r.output
     plain = runner.invoke(app, ["steady", "--model", "rft", "--omega-rpm", "30"])
     assert r.output.splitlines()[-1] != plain.output.splitlines()[-1]  # the table is used
     sc = get_scenario("wheel")
-    sc.force_model.xi *= 2
+    sc.force_model.xi = 0.7
     st = run_steady(sc, "rft", 30.0, None)
     assert r.output.splitlines()[-1].split("|")[:2] == [f"{st.velocity:8.4f} ", f" {st.sinkage * 1e3:10.2f} "]
     bad = runner.invoke(app, ["steady", "--rft-coefficients", str(tmp_path / "none.json")])
