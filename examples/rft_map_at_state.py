@@ -8,7 +8,10 @@ moving at --vx (m/s) and spinning forward at --rpm; the force is averaged over o
 (beta, gamma) with the same mirror extension (--map, an alpha_map.csv on a regular grid).
 
     python examples/rft_map_at_state.py --map runs/rftmap/base/alpha_map.csv \
-        --table docs/figures/rft_map_mpm.json --z 0.0602 --vx 0.148 --rpm 30
+        --table docs/figures/rft_map_mpm.json --z 0.0602 --vx 0.148 --rpm 30 --raise-mm 0,10,20,30,40
+
+--raise-mm also evaluates each model with the free surface raised by that much (as if the grains
+stood higher: a bulge, or the size term of a footing's strength that alpha |z| lacks).
 """
 
 from __future__ import annotations
@@ -74,10 +77,15 @@ def main() -> None:
     ap.add_argument("--z", type=float, required=True, help="wheel centre above the undisturbed surface, m")
     ap.add_argument("--vx", type=float, required=True, help="forward speed, m/s")
     ap.add_argument("--rpm", type=float, required=True, help="forward spin, RPM (> 0)")
+    ap.add_argument("--raise-mm", default="0", help="comma-separated raises of the free surface, mm (default 0)")
     ap.add_argument("--out", type=Path, help="also write the table to this CSV")
     args = ap.parse_args()
     if args.rpm <= 0:
         ap.error("--rpm must be > 0")
+    try:
+        raises = [float(v) for v in args.raise_mm.split(",") if v.strip()]
+    except ValueError:
+        ap.error(f"--raise-mm must be comma-separated numbers, got {args.raise_mm!r}")
     sc = get_scenario("wheel")
     els = sc.rft_shape().elements
     table = load_coefficients(args.table)
@@ -89,14 +97,16 @@ def main() -> None:
     omega = -args.rpm * 2 * np.pi / 60
     thetas = np.linspace(0.0, 2 * np.pi, 721)[:-1]
     rows = []
-    for name, fn in models.items():
-        w = np.mean([wrench(els, BodyState(0.0, args.z, t, args.vx, 0.0, omega), fn) for t in thetas], axis=0)
-        rows.append({"model": name, "fx": w[0], "fz": w[1], "moment": w[2]})
-        print(f"{name:32s} fx {w[0]:7.2f} N  fz {w[1]:7.2f} N  moment {w[2]:6.3f} N m")
+    for up in raises:
+        z = args.z - up * 1e-3  # the surface raised by `up` = the wheel that much deeper
+        for name, fn in models.items():
+            w = np.mean([wrench(els, BodyState(0.0, z, t, args.vx, 0.0, omega), fn) for t in thetas], axis=0)
+            rows.append({"raise_mm": up, "model": name, "fx": w[0], "fz": w[1], "moment": w[2]})
+            print(f"surface +{up:4.1f} mm  {name:32s} fx {w[0]:7.2f} N  fz {w[1]:7.2f} N  moment {w[2]:6.3f} N m")
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with args.out.open("w", newline="") as f:
-            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "model", "fx", "fz", "moment"])
+            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "raise_mm", "model", "fx", "fz", "moment"])
             w_.writeheader()
             w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, **r} for r in rows)
 
