@@ -11,7 +11,9 @@ moving at --vx (m/s) and spinning forward at --rpm; the force is averaged over o
         --table docs/figures/rft_map_mpm.json --z 0.0602 --vx 0.148 --rpm 30 --raise-mm 0,10,20,30,40
 
 --raise-mm also evaluates each model with the free surface raised by that much (as if the grains
-stood higher: a bulge, or the size term of a footing's strength that alpha |z| lacks).
+stood higher: a bulge, or the size term of a footing's strength that alpha |z| lacks). --parts
+splits each force by part (rim, grouser sides, grouser tips) ahead of and behind the centre, as
+the MPM's fx_ahead / fz_ahead split its own.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
+from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
 from intrusim.kinematics import BodyState, element_motion
 from intrusim.laws.rft import alpha, element_angles, load_coefficients, wrap_beta
 from intrusim.scenarios import get_scenario
@@ -59,15 +62,33 @@ def interpolated_map(path: Path):
     return alpha_map
 
 
-def wrench(elements, state: BodyState, alpha_fn) -> np.ndarray:
-    """(fx, fz, moment) of RFT with the stress-per-depth function ``alpha_fn`` (surface at z = 0)."""
+PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
+
+
+def element_forces(elements, state: BodyState, alpha_fn) -> tuple[np.ndarray, np.ndarray]:
+    """Element offsets from the centre (N, 2) and RFT forces (N, 2, N) with ``alpha_fn`` (surface at z = 0)."""
     mo = element_motion(elements, state)
     beta, gamma = element_angles(mo.normal, mo.velocity)
     ax, az = alpha_fn(beta, gamma)
     z = mo.position[:, 1]
     active = (np.einsum("ij,ij->i", mo.normal, mo.velocity) > 0.0) & (z < 0.0)
-    f = np.column_stack([ax, az]) * np.where(active, -z, 0.0)[:, None] * elements.area[:, None]
-    return np.array([f[:, 0].sum(), f[:, 1].sum(), np.sum(mo.offset[:, 0] * f[:, 1] - mo.offset[:, 1] * f[:, 0])])
+    return mo.offset, np.column_stack([ax, az]) * np.where(active, -z, 0.0)[:, None] * elements.area[:, None]
+
+
+def wrench(elements, state: BodyState, alpha_fn) -> np.ndarray:
+    """(fx, fz, moment) of RFT with the stress-per-depth function ``alpha_fn`` (surface at z = 0)."""
+    r, f = element_forces(elements, state, alpha_fn)
+    return np.array([f[:, 0].sum(), f[:, 1].sum(), np.sum(r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0])])
+
+
+def part_forces(elements, state: BodyState, alpha_fn) -> dict[str, np.ndarray]:
+    """(fx, fz) of each part, ahead of (x > centre) and behind the centre."""
+    r, f = element_forces(elements, state, alpha_fn)
+    out = {}
+    for name, tag in PARTS.items():
+        for half, sel in (("ahead", r[:, 0] > 0.0), ("behind", r[:, 0] <= 0.0)):
+            out[f"{name}, {half}"] = f[(elements.tag == tag) & sel].sum(axis=0)
+    return out
 
 
 def main() -> None:
@@ -78,6 +99,7 @@ def main() -> None:
     ap.add_argument("--vx", type=float, required=True, help="forward speed, m/s")
     ap.add_argument("--rpm", type=float, required=True, help="forward spin, RPM (> 0)")
     ap.add_argument("--raise-mm", default="0", help="comma-separated raises of the free surface, mm (default 0)")
+    ap.add_argument("--parts", action="store_true", help="also split each force by part and half")
     ap.add_argument("--out", type=Path, help="also write the table to this CSV")
     args = ap.parse_args()
     if args.rpm <= 0:
@@ -101,12 +123,18 @@ def main() -> None:
         z = args.z - up * 1e-3  # the surface raised by `up` = the wheel that much deeper
         for name, fn in models.items():
             w = np.mean([wrench(els, BodyState(0.0, z, t, args.vx, 0.0, omega), fn) for t in thetas], axis=0)
-            rows.append({"raise_mm": up, "model": name, "fx": w[0], "fz": w[1], "moment": w[2]})
+            rows.append({"raise_mm": up, "model": name, "part": "all", "fx": w[0], "fz": w[1], "moment": w[2]})
             print(f"surface +{up:4.1f} mm  {name:32s} fx {w[0]:7.2f} N  fz {w[1]:7.2f} N  moment {w[2]:6.3f} N m")
+            if args.parts:
+                split = [part_forces(els, BodyState(0.0, z, t, args.vx, 0.0, omega), fn) for t in thetas]
+                for key in split[0]:
+                    fx, fz = np.mean([p[key] for p in split], axis=0)
+                    rows.append({"raise_mm": up, "model": name, "part": key, "fx": fx, "fz": fz, "moment": ""})
+                    print(f"    {key:<22s} fx {fx:7.2f} N  fz {fz:7.2f} N")
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with args.out.open("w", newline="") as f:
-            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "raise_mm", "model", "fx", "fz", "moment"])
+            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "raise_mm", "model", "part", "fx", "fz", "moment"])
             w_.writeheader()
             w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, **r} for r in rows)
 
