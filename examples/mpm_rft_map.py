@@ -67,6 +67,7 @@ def run(
     betas: str = typer.Option("-60,-30,0,30,60,90", help="plate orientations, degrees"),
     gammas: str = typer.Option("-90,-60,-30,0,30,60,90", help="motion directions, degrees"),
     depth_mm: float = typer.Option(40.0), plate_mm: float = typer.Option(25.0),
+    thickness_mm: float = typer.Option(5.0, help="plate thickness (keep it 2 cells or more)"),
     cell_mm: float = typer.Option(2.5), band: float = typer.Option(0.0, help="contact band, cells"),
     bed_mm: float = typer.Option(150.0), domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
     workers: int = typer.Option(2, min=1),
@@ -76,7 +77,8 @@ def run(
         w_mm, h_mm = (float(v) for v in domain_mm.lower().split("x"))
     except ValueError:
         raise typer.BadParameter(f"--domain-mm must be WIDTHxHEIGHT, got {domain_mm!r}") from None
-    common = dict(depth=depth_mm / 1e3, plate_length=plate_mm / 1e3, cell_size=cell_mm / 1e3, contact_band_cells=band,
+    common = dict(depth=depth_mm / 1e3, plate_length=plate_mm / 1e3, plate_thickness=thickness_mm / 1e3,
+                  cell_size=cell_mm / 1e3, contact_band_cells=band,
                   bed_height=bed_mm / 1e3, domain=(w_mm / 1e3, h_mm / 1e3))  # fmt: skip
     try:
         cases = map_cases(_degrees(betas), _degrees(gammas), **common)  # validates every case first
