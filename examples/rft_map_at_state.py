@@ -23,43 +23,21 @@ import csv
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import RegularGridInterpolator
-
+from intrusim._checks import InputError
+from intrusim.analysis.rft_fit import interpolated_map
 from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
 from intrusim.kinematics import BodyState, element_motion
-from intrusim.laws.rft import alpha, element_angles, load_coefficients, wrap_beta
+from intrusim.laws.rft import alpha, element_angles, load_coefficients
 from intrusim.scenarios import get_scenario
 
 
-def interpolated_map(path: Path):
-    """alpha(beta, gamma) (N/m^3) interpolated in a measured map on a regular (beta, gamma) grid."""
+def map_from_csv(path: Path):
+    """The measured map of an alpha_map.csv, interpolated (``analysis.rft_fit.interpolated_map``)."""
     m = np.genfromtxt(path, delimiter=",", names=True)
-    b = np.round(np.degrees(m["beta"]), 6)
-    g = np.round(np.degrees(m["gamma"]), 6)
-    b = np.where(np.isclose(b, -90.0), 90.0, b)  # beta = -90 is beta = 90
-    bs = np.unique(np.concatenate([b, [-90.0] if 90.0 in b else []]))
-    gs = np.unique(g)
-    ax = np.full((len(bs), len(gs)), np.nan)
-    az = np.full_like(ax, np.nan)
-    for bi, gi, x, z in zip(b, g, m["alpha_x"], m["alpha_z"]):
-        for bb in ([90.0, -90.0] if bi == 90.0 else [bi]):
-            i, j = np.searchsorted(bs, bb), np.searchsorted(gs, gi)
-            ax[i, j], az[i, j] = x, z
-    if np.isnan(ax).any() or bs[0] > -90 or bs[-1] < 90 or gs[0] > -90 or gs[-1] < 90:
-        raise SystemExit(f"{path}: the map must be a full grid over beta, gamma in [-90, 90] degrees")
-    grid = (np.radians(bs), np.radians(gs))
-    fx, fz = RegularGridInterpolator(grid, ax), RegularGridInterpolator(grid, az)
-
-    def alpha_map(beta, gamma):
-        bw = wrap_beta(beta)
-        gw = (np.asarray(gamma) + np.pi) % (2 * np.pi) - np.pi
-        mirror = np.abs(gw) > 0.5 * np.pi
-        pts = np.column_stack([np.clip(np.where(mirror, -bw, bw), -0.5 * np.pi, 0.5 * np.pi),
-                               np.where(mirror, np.sign(gw) * np.pi - gw, gw)])  # fmt: skip
-        x, z = fx(pts), fz(pts)
-        return np.where(mirror, -x, x), z
-
-    return alpha_map
+    try:
+        return interpolated_map(m["beta"], m["gamma"], m["alpha_x"], m["alpha_z"])
+    except InputError as err:
+        raise SystemExit(f"{path}: {err}") from None
 
 
 PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
@@ -114,7 +92,7 @@ def main() -> None:
     models = {
         "generic x 0.35 (paper RFT)": lambda b, g: alpha(b, g, 0.35),
         "Li form fitted to the MPM map": lambda b, g: alpha(b, g, 1.0, table),
-        "MPM map, interpolated": interpolated_map(args.map),
+        "MPM map, interpolated": map_from_csv(args.map),
     }
     omega = -args.rpm * 2 * np.pi / 60
     thetas = np.linspace(0.0, 2 * np.pi, 721)[:-1]

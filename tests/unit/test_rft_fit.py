@@ -88,3 +88,24 @@ def test_coefficient_file_round_trip_and_scenario(tmp_path):
         load_coefficients(tmp_path / "bad.json")
     with pytest.raises(InputError, match="not found"):
         load_coefficients(tmp_path / "missing.json")
+
+
+def test_interpolated_map_holds_its_points_and_the_mirror():
+    from intrusim.analysis.rft_fit import interpolated_map
+
+    ax, az = alpha(B, G)
+    fn = interpolated_map(B, G, ax, az)
+    assert np.allclose(np.array(fn(B, G)), np.array([ax, az]), rtol=1e-9, atol=1e-3)  # N/m^3
+    assert np.allclose(np.array(fn(-0.5 * np.pi + 0 * G, G)), np.array(alpha(0.5 * np.pi, G)), atol=1e-3)  # beta -90 = 90
+    rng = np.random.default_rng(0)
+    b, g = rng.uniform(-1.5, 1.5, 200), rng.uniform(-np.pi, np.pi, 200)
+    x, z = fn(b, g)
+    mx, mz = fn(-b, np.pi - g)  # the mirror image x -> -x
+    assert np.allclose(mx, -x) and np.allclose(mz, z)
+    ex, ez = alpha(b, g)  # linear interpolation of the generic map on a 30 degree grid
+    scale = np.abs(np.concatenate([ex, ez])).max()
+    assert np.abs(np.concatenate([x - ex, z - ez])).max() < 0.1 * scale
+    with pytest.raises(InputError, match="every"):
+        interpolated_map(B[1:], G[1:], ax[1:], az[1:])
+    with pytest.raises(InputError, match="span"):
+        interpolated_map(B[G > -1.0], G[G > -1.0], ax[G > -1.0], az[G > -1.0])

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from intrusim._checks import InputError
-from intrusim.laws.rft import N_PER_CM3
+from intrusim.laws.rft import N_PER_CM3, wrap_beta
 
 # (table index 0..3 = A, B, C, D; m; n) of the kept terms, alpha_z first, then alpha_x
 Z_TERMS = ((0, 0, 0), (0, 1, 0), (1, 1, 1), (1, 0, 1), (1, -1, 1))
@@ -81,3 +81,46 @@ def write_coefficients(path: str | Path, coef: np.ndarray, meta: dict | None = N
     path = Path(path)
     path.write_text(json.dumps({"units": "N/cm^3", **coefficient_blocks(coef), "meta": meta or {}}, indent=1))
     return path
+
+
+def interpolated_map(beta, gamma, alpha_x, alpha_z):
+    """alpha(beta, gamma) (N/m^3) interpolated linearly in a measured map, without a fitted form.
+
+    The map must cover a full regular grid over beta and gamma in [-pi/2, pi/2] (beta = -pi/2 may
+    be left out: it is the plate beta = pi/2). Other angles use the conventions of
+    :func:`intrusim.laws.rft.alpha`: beta modulo pi, and the mirror x -> -x for |gamma| > pi/2
+    (evaluate at (-beta, +-pi - gamma), flip alpha_x). Returns a function of (beta, gamma) arrays.
+    """
+    from scipy.interpolate import RegularGridInterpolator
+
+    b, g, ax, az = (np.ravel(np.asarray(a, float)) for a in (beta, gamma, alpha_x, alpha_z))
+    b = np.where(np.isclose(b, -0.5 * np.pi), 0.5 * np.pi, b)
+    has_vertical = np.isclose(b, 0.5 * np.pi)
+    b = np.concatenate([b, np.full(has_vertical.sum(), -0.5 * np.pi)])  # the vertical plate at both ends
+    g = np.concatenate([g, g[has_vertical]])
+    ax = np.concatenate([ax, ax[has_vertical]])
+    az = np.concatenate([az, az[has_vertical]])
+    bs, gs = np.unique(np.round(b, 9)), np.unique(np.round(g, 9))
+    if not (np.isclose(bs[0], -0.5 * np.pi) and np.isclose(bs[-1], 0.5 * np.pi)
+            and np.isclose(gs[0], -0.5 * np.pi) and np.isclose(gs[-1], 0.5 * np.pi)):  # fmt: skip
+        raise InputError("the map must span beta and gamma from -pi/2 to pi/2")
+    grid_x = np.full((len(bs), len(gs)), np.nan)
+    grid_z = np.full_like(grid_x, np.nan)
+    i, j = np.searchsorted(bs, np.round(b, 9)), np.searchsorted(gs, np.round(g, 9))
+    grid_x[i, j], grid_z[i, j] = ax, az
+    if np.isnan(grid_x).any():
+        raise InputError("the map must hold every (beta, gamma) of its grid")
+    fx = RegularGridInterpolator((bs, gs), grid_x)
+    fz = RegularGridInterpolator((bs, gs), grid_z)
+
+    def alpha_map(beta, gamma):
+        bw = wrap_beta(beta)
+        gw = (np.asarray(gamma, float) + np.pi) % (2 * np.pi) - np.pi
+        bw, gw = np.broadcast_arrays(bw, gw)
+        mirror = np.abs(gw) > 0.5 * np.pi
+        pts = np.stack([np.clip(np.where(mirror, -bw, bw), bs[0], bs[-1]),
+                        np.clip(np.where(mirror, np.sign(gw) * np.pi - gw, gw), gs[0], gs[-1])], axis=-1)  # fmt: skip
+        x, z = fx(pts), fz(pts)
+        return np.where(mirror, -x, x), z
+
+    return alpha_map
