@@ -28,7 +28,7 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
     MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
-from intrusim.laws.rft import LI2013, N_PER_CM3, _table, rft_traction
+from intrusim.laws.rft import LI2013, N_PER_CM3, as_table, rft_traction
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
 Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
@@ -269,7 +269,7 @@ class ResistiveForceModel:
 
     def __post_init__(self) -> None:
         non_negative("xi", self.xi)
-        object.__setattr__(self, "_coef", _COEF if self.coef is None else np.ascontiguousarray(_table(self.coef)))
+        object.__setattr__(self, "_coef", _COEF if self.coef is None else np.ascontiguousarray(as_table(self.coef)))
         non_negative("rho", self.rho)
         non_negative("lambda", self.lam)
         finite("surface_z", self.surface_z)

@@ -88,6 +88,11 @@ def test_coefficient_file_round_trip_and_scenario(tmp_path):
         load_coefficients(tmp_path / "bad.json")
     with pytest.raises(InputError, match="not found"):
         load_coefficients(tmp_path / "missing.json")
+    for text, match in (("{not json", "not valid JSON"), ('{"A": {"2,0": 1.0}}', "outside"),
+                        ('{"A": {"0,0": "x"}}', "to a number"), ("[1, 2]", "no coefficient blocks")):  # fmt: skip
+        (tmp_path / "bad.json").write_text(text)
+        with pytest.raises(InputError, match=match):
+            load_coefficients(tmp_path / "bad.json")
 
 
 def test_interpolated_map_holds_its_points_and_the_mirror():

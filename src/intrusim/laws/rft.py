@@ -33,6 +33,8 @@ def _coefficient_table(block: dict[str, float]) -> np.ndarray:
     table = np.zeros((3, 2))
     for key, value in block.items():
         m, n = (int(s) for s in key.split(","))
+        if m not in (-1, 0, 1) or n not in (0, 1):
+            raise ValueError(f"term {key!r} is outside m in -1..1, n in 0..1")
         table[m + 1, n] = float(value)
     return table
 
@@ -61,18 +63,25 @@ def load_coefficients(path: str | Path) -> np.ndarray:
     if not path.is_file():
         raise InputError(f"RFT coefficient file {str(path)!r} not found")
     text = path.read_text()
-    data = tomllib.loads(text) if path.suffix == ".toml" else json.loads(text)
+    try:
+        data = tomllib.loads(text) if path.suffix == ".toml" else json.loads(text)
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as err:
+        raise InputError(f"{path}: not valid {'TOML' if path.suffix == '.toml' else 'JSON'} ({err})") from None
+    if not isinstance(data, dict) or not any(k in data for k in "ABCD"):
+        raise InputError(f"{path}: no coefficient blocks A, B, C, D")
     if data.get("units", "N/cm^3") != "N/cm^3":
         raise InputError(f"{path}: RFT coefficients must be in N/cm^3, got {data['units']!r}")
-    if not any(k in data for k in "ABCD"):
-        raise InputError(f"{path}: no coefficient blocks A, B, C, D")
-    table = coefficient_table(data)
+    try:
+        table = coefficient_table(data)
+    except (ValueError, TypeError, IndexError, AttributeError) as err:
+        raise InputError(f'{path}: each block must map "m,n" (m in -1..1, n in 0..1) to a number ({err})') from None
     if not np.all(np.isfinite(table)):
         raise InputError(f"{path}: non-finite coefficients")
     return table
 
 
-def _table(coef: np.ndarray | None) -> np.ndarray:
+def as_table(coef: np.ndarray | None) -> np.ndarray:
+    """A checked (4, 3, 2) coefficient table (N/cm^3); None: the generic one, :data:`LI2013`."""
     if coef is None:
         return LI2013
     coef = np.asarray(coef, float)
@@ -90,7 +99,7 @@ def alpha_fit(beta: np.ndarray, gamma: np.ndarray, coef: np.ndarray | None = Non
     Valid for beta, gamma in [-pi/2, pi/2]; use :func:`alpha` for any angles. ``coef``: a
     (4, 3, 2) table [A, B, C, D][m + 1, n] in N/cm^3 (default: the generic one, :data:`LI2013`).
     """
-    A, B, C, D = _table(coef)
+    A, B, C, D = as_table(coef)
     beta = np.asarray(beta, float)
     gamma = np.asarray(gamma, float)
     ax = np.zeros(np.broadcast(beta, gamma).shape)
