@@ -91,6 +91,7 @@ def run(
     todo = [c for c in cases if (round(c.beta, 6), round(c.gamma, 6)) not in done]
     typer.echo(f"{len(cases)} cases, {len(cases) - len(todo)} done, {len(todo)} to run")
     kws = [{k: getattr(c, k) for k in c.__dataclass_fields__} for c in todo]
+    failed = 0
     new = not path.exists()
     fields = FIELDS if new else next(csv.reader(path.open()))  # keep an existing file's columns
     with path.open("a", newline="") as f, ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
@@ -105,11 +106,15 @@ def run(
             except Exception as err:  # noqa: BLE001 - report and go on; the case stays missing
                 typer.echo(f"[{i}/{len(kws)}] beta {math.degrees(kw['beta']):.0f} gamma "
                            f"{math.degrees(kw['gamma']):.0f}: FAILED {type(err).__name__}: {err}")  # fmt: skip
+                failed += 1
                 continue
             w.writerow(rec)
             f.flush()
             typer.echo(f"[{i}/{len(kws)}] beta {math.degrees(rec['beta']):4.0f} gamma {math.degrees(rec['gamma']):4.0f}: "
                        f"alpha_x {rec['alpha_x']:9.0f} alpha_z {rec['alpha_z']:9.0f} N/m^3 ({rec['wall_s']} s)")  # fmt: skip
+    if failed:
+        typer.echo(f"{failed} case(s) failed and are not in {path}; run again to retry them", err=True)
+        raise typer.Exit(1)
 
 
 def read_map(path: Path) -> dict[str, np.ndarray]:

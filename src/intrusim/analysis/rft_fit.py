@@ -13,6 +13,7 @@ result is a (4, 3, 2) table [A, B, C, D][m + 1, n] in N/cm^3, the layout of the 
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -76,8 +77,6 @@ def scale_to(coef: np.ndarray, reference: np.ndarray) -> float:
 
 def write_coefficients(path: str | Path, coef: np.ndarray, meta: dict | None = None) -> Path:
     """Save a table as JSON: {"units": "N/cm^3", "A": {...}, ..., "meta": {...}}."""
-    import json
-
     path = Path(path)
     path.write_text(json.dumps({"units": "N/cm^3", **coefficient_blocks(coef), "meta": meta or {}}, indent=1))
     return path
