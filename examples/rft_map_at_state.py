@@ -23,11 +23,12 @@ import csv
 from pathlib import Path
 
 import numpy as np
+
 from intrusim._checks import InputError
 from intrusim.analysis.rft_fit import interpolated_map
 from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
 from intrusim.kinematics import BodyState, element_motion
-from intrusim.laws.rft import alpha, element_angles, load_coefficients
+from intrusim.laws.rft import alpha, load_coefficients, rft_traction_with
 from intrusim.scenarios import get_scenario
 
 
@@ -46,11 +47,7 @@ PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_
 def element_forces(elements, state: BodyState, alpha_fn) -> tuple[np.ndarray, np.ndarray]:
     """Element offsets from the centre (N, 2) and RFT forces (N, 2, N) with ``alpha_fn`` (surface at z = 0)."""
     mo = element_motion(elements, state)
-    beta, gamma = element_angles(mo.normal, mo.velocity)
-    ax, az = alpha_fn(beta, gamma)
-    z = mo.position[:, 1]
-    active = (np.einsum("ij,ij->i", mo.normal, mo.velocity) > 0.0) & (z < 0.0)
-    return mo.offset, np.column_stack([ax, az]) * np.where(active, -z, 0.0)[:, None] * elements.area[:, None]
+    return mo.offset, rft_traction_with(alpha_fn, mo.normal, mo.velocity, mo.position[:, 1]) * elements.area[:, None]
 
 
 def wrench(elements, state: BodyState, alpha_fn) -> np.ndarray:

@@ -177,13 +177,18 @@ def rft_traction(
     Elements that do not move into the medium (n . v <= 0, the leading-edge rule) or lie
     above the surface get zero traction.
     """
+    return rft_traction_with(lambda b, g: alpha(b, g, xi, coef), normal, velocity, depth)
+
+
+def rft_traction_with(alpha_fn, normal: np.ndarray, velocity: np.ndarray, depth: np.ndarray) -> np.ndarray:
+    """:func:`rft_traction` with any stress-per-depth law ``alpha_fn(beta, gamma) -> (alpha_x, alpha_z)``
+    in N/m^3 (e.g. a measured map, ``intrusim.analysis.rft_fit.interpolated_map``), N/m^2."""
     n = np.asarray(normal, float)
     v = np.asarray(velocity, float)
     z = np.asarray(depth, float)
     beta, gamma = element_angles(n, v)
-    ax, az = alpha(beta, gamma, xi, coef)
+    ax, az = alpha_fn(beta, gamma)
     leading = np.einsum("ij,ij->i", n, v) > 0.0
     active = leading & (z < 0.0)
     scale = np.where(active, -z, 0.0)
     return np.column_stack([ax * scale, az * scale])
-
