@@ -75,6 +75,8 @@ def main() -> None:
     ap.add_argument("--rpm", type=float, required=True, help="forward spin, RPM (> 0)")
     ap.add_argument("--raise-mm", default="0", help="comma-separated raises of the free surface, mm (default 0)")
     ap.add_argument("--parts", action="store_true", help="also split each force by part and half")
+    ap.add_argument("--lug-scale", type=float, default=None,
+                    help="RFT grouser height / true height (default: the scenario's 1/3, the paper's shadowing)")
     ap.add_argument("--out", type=Path, help="also write the table to this CSV")
     args = ap.parse_args()
     if args.rpm <= 0:
@@ -84,6 +86,10 @@ def main() -> None:
     except ValueError:
         ap.error(f"--raise-mm must be comma-separated numbers, got {args.raise_mm!r}")
     sc = get_scenario("wheel")
+    if args.lug_scale is not None:
+        if not 0.0 < args.lug_scale <= 1.0:
+            ap.error(f"--lug-scale must be in (0, 1], got {args.lug_scale}")
+        sc = sc.model_copy(update={"lug_height_scale": args.lug_scale})
     els = sc.rft_shape().elements
     table = load_coefficients(args.table)
     models = {
@@ -109,9 +115,9 @@ def main() -> None:
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with args.out.open("w", newline="") as f:
-            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "raise_mm", "model", "part", "fx", "fz", "moment"])
+            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "lug_scale", "raise_mm", "model", "part", "fx", "fz", "moment"])
             w_.writeheader()
-            w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, **r} for r in rows)
+            w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, "lug_scale": sc.lug_height_scale, **r} for r in rows)
 
 
 if __name__ == "__main__":
