@@ -31,6 +31,7 @@ import numpy as np
 from intrusim.mpm.config import MPMConfig, PrescribedMotion
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
+from intrusim.scenarios.locomotor import without_lugs
 from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
 
 META = "fixed_state.json"
@@ -38,7 +39,7 @@ META = "fixed_state.json"
 
 def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     """The coupled wheel's config with the body held at height z, moving at (vx, omega)."""
-    scenario = grousered_wheel_scenario()
+    scenario = without_lugs(grousered_wheel_scenario()) if args.smooth else grousered_wheel_scenario()
     domain = tuple(args.domain)
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
     settings = paper_settings("wheel").model_copy(update=dict(
@@ -59,6 +60,7 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
 
 def run(args: argparse.Namespace) -> None:
     tag = f"z{1e3 * args.z:.1f}mm_v{1e3 * args.vx:.1f}mm_s_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
+    tag += "_smooth" if args.smooth else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -66,7 +68,7 @@ def run(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
-            "bed_depth": args.bed_depth, "domain": list(args.domain)}  # fmt: skip
+            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth}  # fmt: skip
     (out / META).write_text(json.dumps(meta, indent=1))
 
     def progress(s: Solver) -> None:
@@ -162,6 +164,7 @@ def main() -> None:
     r.add_argument("--bed-depth", type=float, default=0.15)
     r.add_argument("--start-x", type=float, default=0.15)
     r.add_argument("--threads", type=int, default=2)
+    r.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")

@@ -30,6 +30,7 @@ from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
 from intrusim.kinematics import BodyState, element_motion
 from intrusim.laws.rft import alpha, load_coefficients, rft_traction_with
 from intrusim.scenarios import get_scenario
+from intrusim.scenarios.locomotor import without_lugs
 
 
 def map_from_csv(path: Path):
@@ -75,6 +76,7 @@ def main() -> None:
     ap.add_argument("--rpm", type=float, required=True, help="forward spin, RPM (> 0)")
     ap.add_argument("--raise-mm", default="0", help="comma-separated raises of the free surface, mm (default 0)")
     ap.add_argument("--parts", action="store_true", help="also split each force by part and half")
+    ap.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
     ap.add_argument("--lug-scale", type=float, default=None,
                     help="RFT grouser height / true height (default: the scenario's 1/3, the paper's shadowing)")
     ap.add_argument("--out", type=Path, help="also write the table to this CSV")
@@ -86,6 +88,8 @@ def main() -> None:
     except ValueError:
         ap.error(f"--raise-mm must be comma-separated numbers, got {args.raise_mm!r}")
     sc = get_scenario("wheel")
+    if args.smooth:
+        sc = without_lugs(sc)
     if args.lug_scale is not None:
         if not 0.0 < args.lug_scale <= 1.0:
             ap.error(f"--lug-scale must be in (0, 1], got {args.lug_scale}")
@@ -115,9 +119,10 @@ def main() -> None:
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with args.out.open("w", newline="") as f:
-            w_ = csv.DictWriter(f, fieldnames=["z", "vx", "rpm", "lug_scale", "raise_mm", "model", "part", "fx", "fz", "moment"])
+            w_ = csv.DictWriter(f, fieldnames=["body", "z", "vx", "rpm", "lug_scale", "raise_mm", "model", "part", "fx", "fz", "moment"])
             w_.writeheader()
-            w_.writerows({"z": args.z, "vx": args.vx, "rpm": args.rpm, "lug_scale": sc.lug_height_scale, **r} for r in rows)
+            w_.writerows({"body": sc.name, "z": args.z, "vx": args.vx, "rpm": args.rpm, "lug_scale": sc.lug_height_scale, **r}
+                         for r in rows)  # fmt: skip
 
 
 if __name__ == "__main__":

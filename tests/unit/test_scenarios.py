@@ -70,3 +70,24 @@ def test_mpm_forward_push_is_table_s1_for_the_wheel_and_scales_with_mass():
     assert forward_force(small_wheel_scenario(), wheel) == pytest.approx(4.0 / 8)  # mass x 1/8
     assert forward_force(four_flap_runner_scenario(), paper_settings("runner")) == 0.0
     assert forward_force(small_wheel_scenario(), wheel.model_copy(update=dict(forward_force=2.0))) == 2.0
+
+
+def test_without_lugs_keeps_the_outer_radius():
+    import pytest
+
+    from intrusim._checks import InputError
+    from intrusim.scenarios import get_scenario
+    from intrusim.scenarios.locomotor import without_lugs
+
+    wheel = get_scenario("wheel")
+    smooth = without_lugs(wheel)
+    assert smooth.radius == pytest.approx(wheel.radius) and smooth.lug_height == 0.0005
+    from intrusim.geometry import TAG_LUG_SIDE
+
+    def sides(sc):  # RFT area of the grousers' sides; the tips stay on the outer surface
+        e = sc.rft_shape().elements
+        return e.area[e.tag == TAG_LUG_SIDE].sum()
+
+    assert sides(smooth) < 0.1 * sides(wheel)
+    with pytest.raises(InputError):
+        without_lugs(wheel, stub=0.5)
