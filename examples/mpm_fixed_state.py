@@ -113,7 +113,7 @@ def table(args: argparse.Namespace) -> None:
             series.append((meta, t))
     if not rows:
         raise SystemExit("no fixed-state run folders found")
-    rows.sort(key=lambda r: (r["z"], r["vx"], -r["cell_mm"]))
+    rows.sort(key=lambda r: (r.get("smooth", False), r["z"], r["vx"], -r["cell_mm"]))
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     keys = list(dict.fromkeys(k for r in rows for k in r if k != "domain"))
@@ -121,18 +121,19 @@ def table(args: argparse.Namespace) -> None:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
-    print(f"| z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print(f"| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {1e3 * r['z']:.1f} | {r['vx']:.4f} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['fx']:+.2f} | "
+        print(f"| {'smooth rim' if r.get('smooth') else 'grousered'} | {1e3 * r['z']:.1f} | {r['vx']:.4f} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['fx']:+.2f} | "
               f"{r['fz']:.2f} | {r['moment']:+.3f} | {r['fx_ahead']:+.2f} | {r['fz_ahead']:.2f} | {r['t_end']:.2f} |")
 
     fig, axes = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
     styles = {}
     for meta, t in series:
-        state = (meta["z"], meta["vx"], meta["omega_rpm"])
+        state = (meta["z"], meta["vx"], meta["omega_rpm"], meta.get("smooth", False))
         styles.setdefault(state, ["-", "--", ":", "-."][len(styles) % 4])
         label = f"z {1e3 * meta['z']:.1f} mm, v {meta['vx']:.3f} m/s, {meta['cell_mm']:g} mm cells"
+        label += ", smooth rim" if meta.get("smooth") else ""
         color = {5.0: "C0", 2.5: "C1", 1.25: "C2"}.get(float(meta["cell_mm"]), "C3")
         k = max(1, int(round(0.1 / np.median(np.diff(t["time"])))))  # one grouser period at 30 RPM
         smooth = lambda y: np.convolve(y, np.ones(k) / k, mode="valid")
