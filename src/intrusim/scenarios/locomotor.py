@@ -163,7 +163,7 @@ def without_lugs(scenario: LocomotorScenario, stub: float = 0.0005) -> Locomotor
     """The same body with its outer radius but lugs cut to ``stub`` m (a smooth rim, for checks of
     the rim alone; 0.5 mm is a fifth of a 2.5 mm MPM cell and leaves the RFT lug elements no area
     to speak of)."""
-    r_outer = 0.5 * scenario.hub_diameter + scenario.lug_height
+    r_outer = scenario.radius
     if not 0.0 < stub < r_outer:
         raise InputError(f"stub must be in (0, {r_outer:g}) m, got {stub!r}")
     return scenario.model_copy(
