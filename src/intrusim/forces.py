@@ -28,7 +28,7 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
     MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
-from intrusim.laws.rft import LI2013, N_PER_CM3, as_table, rft_traction
+from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
 Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
@@ -240,9 +240,6 @@ def _wrench_kernel(
     return fx, fz, mom
 
 
-_COEF = np.ascontiguousarray(LI2013)
-
-
 @dataclass(frozen=True)
 class ResistiveForceModel:
     """RFT / DRFT force model of one rigid body (Eqs. 3-4).
@@ -269,7 +266,7 @@ class ResistiveForceModel:
 
     def __post_init__(self) -> None:
         non_negative("xi", self.xi)
-        object.__setattr__(self, "_coef", _COEF if self.coef is None else np.ascontiguousarray(as_table(self.coef)))
+        object.__setattr__(self, "_coef", np.ascontiguousarray(as_table(self.coef)))  # None: the generic table
         non_negative("rho", self.rho)
         non_negative("lambda", self.lam)
         finite("surface_z", self.surface_z)

@@ -39,19 +39,18 @@ def _coefficient_table(block: dict[str, float]) -> np.ndarray:
     return table
 
 
-def li2013_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The generic coefficients (A, B, C, D) as (3, 2) arrays [m + 1, n], in N/cm^3."""
-    c = li2013_coefficients()
-    return tuple(_coefficient_table(c[k]) for k in "ABCD")  # type: ignore[return-value]
-
-
-A_COEF, B_COEF, C_COEF, D_COEF = li2013_tables()
-LI2013 = np.stack([A_COEF, B_COEF, C_COEF, D_COEF])  # (4, 3, 2): [A, B, C, D][m + 1, n], N/cm^3
-
-
 def coefficient_table(blocks: dict) -> np.ndarray:
     """{"A": {"m,n": value}, ..., "D": {...}} (N/cm^3) -> (4, 3, 2) table; missing terms are zero."""
     return np.stack([_coefficient_table(blocks.get(k, {})) for k in "ABCD"])
+
+
+def li2013_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The generic coefficients (A, B, C, D) as (3, 2) arrays [m + 1, n], in N/cm^3."""
+    return tuple(coefficient_table(li2013_coefficients()))  # type: ignore[return-value]
+
+
+LI2013 = coefficient_table(li2013_coefficients())  # (4, 3, 2): [A, B, C, D][m + 1, n], N/cm^3
+A_COEF, B_COEF, C_COEF, D_COEF = LI2013
 
 
 def load_coefficients(path: str | Path) -> np.ndarray:
