@@ -37,8 +37,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from intrusim.analysis.compare import mean_wrench_along  # noqa: E402
-from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE  # noqa: E402
+from intrusim.analysis.compare import forces_by_part, mean_wrench_along  # noqa: E402
 from intrusim.kinematics import BodyState  # noqa: E402
 from intrusim.scenarios.base import ForceModelConfig  # noqa: E402
 from intrusim.scenarios.locomotor import LocomotorScenario  # noqa: E402
@@ -67,9 +66,6 @@ def models(scenario: LocomotorScenario, calibrations: dict[str, dict], lug_scale
     return out
 
 
-PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
-
-
 def part_forces(model: object, s: dict[str, np.ndarray], surface: float) -> dict[str, np.ndarray]:
     """Mean (fx, fz) of each part of the wheel, ahead of and behind its centre (NumPy path)."""
     els = model.elements  # type: ignore[attr-defined]
@@ -77,9 +73,8 @@ def part_forces(model: object, s: dict[str, np.ndarray], surface: float) -> dict
     for x, z, th, vx, vz, om in zip(s["x"], s["z"], s["theta"], s["vx"], s["vz"], s["omega"]):
         pos, t = model.element_tractions(BodyState(x, z - surface, th, vx, vz, om))  # type: ignore[attr-defined]
         f = t * els.area[:, None]
-        for name, tag in PARTS.items():
-            for half, sel in (("front", pos[:, 0] > x), ("rear", pos[:, 0] <= x)):
-                acc.setdefault(f"{name}, {half}", []).append(f[(els.tag == tag) & sel].sum(axis=0))
+        for key, part in forces_by_part(els.tag, pos[:, 0] > x, f, halves=("front", "rear")).items():
+            acc.setdefault(key, []).append(part)
     return {k: np.mean(v, axis=0) for k, v in acc.items()}
 
 

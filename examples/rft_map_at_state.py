@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from intrusim._checks import InputError
+from intrusim.analysis.compare import forces_by_part
 from intrusim.analysis.rft_fit import interpolated_map
-from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
 from intrusim.kinematics import BodyState, element_motion
 from intrusim.laws.rft import alpha, load_coefficients, rft_traction_with
 from intrusim.scenarios import get_scenario
@@ -40,9 +40,6 @@ def map_from_csv(path: Path):
         return interpolated_map(m["beta"], m["gamma"], m["alpha_x"], m["alpha_z"])
     except InputError as err:
         raise SystemExit(f"{path}: {err}") from None
-
-
-PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
 
 
 def element_forces(elements, state: BodyState, alpha_fn) -> tuple[np.ndarray, np.ndarray]:
@@ -60,11 +57,7 @@ def wrench(elements, state: BodyState, alpha_fn) -> np.ndarray:
 def part_forces(elements, state: BodyState, alpha_fn) -> dict[str, np.ndarray]:
     """(fx, fz) of each part, ahead of (x > centre) and behind the centre."""
     r, f = element_forces(elements, state, alpha_fn)
-    out = {}
-    for name, tag in PARTS.items():
-        for half, sel in (("ahead", r[:, 0] > 0.0), ("behind", r[:, 0] <= 0.0)):
-            out[f"{name}, {half}"] = f[(elements.tag == tag) & sel].sum(axis=0)
-    return out
+    return forces_by_part(elements.tag, r[:, 0] > 0.0, f)
 
 
 def main() -> None:

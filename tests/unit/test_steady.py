@@ -82,3 +82,17 @@ def test_mean_wrench_along_own_steady_motion_is_the_load():
         mean_wrench_along(sc.build_model("drft"), {"x": [0.0]})
     with pytest.raises(InputError):
         mean_wrench_along(sc.build_model("drft"), dict(series, vx=series["vx"][:-1]))
+
+
+def test_forces_by_part_splits_every_element_once():
+    from intrusim.analysis.compare import forces_by_part
+
+    tags = np.array([0, 0, 1, 1, 2, 2])
+    ahead = np.array([True, False, True, False, True, True])
+    f = np.arange(12.0).reshape(6, 2)
+    parts = forces_by_part(tags, ahead, f, halves=("front", "rear"))
+    assert list(parts) == ["rim, front", "rim, rear", "grouser sides, front", "grouser sides, rear",
+                           "grouser tips, front", "grouser tips, rear"]  # fmt: skip
+    assert np.allclose(parts["rim, front"], f[0]) and np.allclose(parts["grouser tips, front"], f[4] + f[5])
+    assert np.allclose(parts["grouser tips, rear"], 0.0)
+    assert np.allclose(sum(parts.values()), f.sum(axis=0))

@@ -7,6 +7,9 @@ from typing import Any, Mapping
 import numpy as np
 
 from intrusim._checks import InputError
+from intrusim.geometry import TAG_LUG_SIDE, TAG_LUG_TIP, TAG_SURFACE
+
+PARTS = {"rim": TAG_SURFACE, "grouser sides": TAG_LUG_SIDE, "grouser tips": TAG_LUG_TIP}
 
 
 def relative_difference(model_x: np.ndarray, model_y: np.ndarray, ref_x: np.ndarray, ref_y: np.ndarray) -> np.ndarray:
@@ -49,3 +52,15 @@ def mean_wrench_along(model: object, series: Mapping[str, Any], surface_z: float
     x, z, th, vx, vz, om = cols
     w = [model.wrench_tuple(*state) for state in zip(x, z - surface_z, th, vx, vz, om)]  # type: ignore[attr-defined]
     return np.mean(np.asarray(w, float), axis=0)
+
+
+def forces_by_part(
+    tags: np.ndarray, ahead: np.ndarray, forces: np.ndarray, halves: tuple[str, str] = ("ahead", "behind")
+) -> dict[str, np.ndarray]:
+    """(fx, fz) of the elements of each part (:data:`PARTS`), split into those ``ahead`` of the
+    body centre (boolean mask) and the rest: {"rim, ahead": (2,), ...}, halves named ``halves``."""
+    out = {}
+    for name, tag in PARTS.items():
+        for half, sel in zip(halves, (ahead, ~ahead)):
+            out[f"{name}, {half}"] = forces[(tags == tag) & sel].sum(axis=0)
+    return out
