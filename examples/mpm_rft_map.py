@@ -17,6 +17,7 @@ import json
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import asdict
 from multiprocessing import get_context
 from pathlib import Path
 
@@ -32,6 +33,8 @@ app = typer.Typer(add_completion=False, no_args_is_help=True)
 @app.callback()
 def main() -> None:
     """Plate maps alpha(beta, gamma) of the MPM medium (run) and Li's form fitted to them (fit)."""
+
+
 FIELDS = [
     "beta", "gamma", "depth", "plate_length", "plate_thickness", "speed", "travel", "cell_size",
     "contact_band_cells", "bed_height", "domain", "grid_offset", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
@@ -50,11 +53,19 @@ def _run_one(kw: dict) -> dict:
     return rec
 
 
-def _done(path: Path) -> set[tuple[float, float]]:
+def _key(beta: float, gamma: float) -> tuple[float, float]:
+    """A case's identity in the CSV (angles as written and read back)."""
+    return round(float(beta), 6), round(float(gamma), 6)
+
+
+def _existing(path: Path) -> tuple[list[str] | None, set[tuple[float, float]]]:
+    """The CSV's columns (None: no file yet) and the (beta, gamma) of the cases it holds, in one read."""
     if not path.exists():
-        return set()
+        return None, set()
     with path.open() as f:
-        return {(round(float(r["beta"]), 6), round(float(r["gamma"]), 6)) for r in csv.DictReader(f)}
+        reader = csv.DictReader(f)
+        done = {_key(r["beta"], r["gamma"]) for r in reader}
+        return list(reader.fieldnames or FIELDS), done
 
 
 def _degrees(text: str) -> list[float]:
@@ -87,13 +98,13 @@ def run(
         raise typer.Exit(2) from None
     out.mkdir(parents=True, exist_ok=True)
     path = out / "alpha_map.csv"
-    done = _done(path)
-    todo = [c for c in cases if (round(c.beta, 6), round(c.gamma, 6)) not in done]
+    header, done = _existing(path)
+    todo = [c for c in cases if _key(c.beta, c.gamma) not in done]
     typer.echo(f"{len(cases)} cases, {len(cases) - len(todo)} done, {len(todo)} to run")
-    kws = [{k: getattr(c, k) for k in c.__dataclass_fields__} for c in todo]
+    kws = [asdict(c) for c in todo]
     failed = 0
-    new = not path.exists()
-    fields = FIELDS if new else next(csv.reader(path.open()))  # keep an existing file's columns
+    new = header is None
+    fields = FIELDS if new else header  # keep an existing file's columns
     with path.open("a", newline="") as f, ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         if new:
