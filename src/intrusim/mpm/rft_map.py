@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from intrusim._checks import InputError
+from intrusim.laws.rft import wrap_beta
 
 from .config import (
     BedConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig, OutputConfig, PrescribedMotion,
@@ -133,7 +134,7 @@ def map_cases(betas: list[float], gammas: list[float], **common) -> list[PlateMa
     """Every (beta, gamma) pair, beta = +-pi/2 counted once (the same vertical plate)."""
     out, seen = [], set()
     for b in betas:
-        key_b = round(((b + 0.5 * math.pi) % math.pi) - 0.5 * math.pi, 9)
+        key_b = round(float(wrap_beta(b)), 9)  # beta and beta + pi are the same plate
         for g in gammas:
             if (key_b, round(g, 9)) in seen:
                 continue
