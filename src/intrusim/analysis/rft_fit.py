@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from intrusim._checks import InputError
-from intrusim.laws.rft import N_PER_CM3, wrap_beta
+from intrusim.laws.rft import N_PER_CM3, mirror_extended
 
 # (table index 0..3 = A, B, C, D; m; n) of the kept terms, alpha_z first, then alpha_x
 Z_TERMS = ((0, 0, 0), (0, 1, 0), (1, 1, 1), (1, 0, 1), (1, -1, 1))
@@ -87,8 +87,8 @@ def interpolated_map(beta, gamma, alpha_x, alpha_z):
 
     The map must cover a full regular grid over beta and gamma in [-pi/2, pi/2] (beta = -pi/2 may
     be left out: it is the plate beta = pi/2). Other angles use the conventions of
-    :func:`intrusim.laws.rft.alpha`: beta modulo pi, and the mirror x -> -x for |gamma| > pi/2
-    (evaluate at (-beta, +-pi - gamma), flip alpha_x). Returns a function of (beta, gamma) arrays.
+    :func:`intrusim.laws.rft.alpha` (:func:`~intrusim.laws.rft.mirror_extended`). Returns a
+    function of (beta, gamma) arrays.
     """
     from scipy.interpolate import RegularGridInterpolator
 
@@ -112,14 +112,8 @@ def interpolated_map(beta, gamma, alpha_x, alpha_z):
     fx = RegularGridInterpolator((bs, gs), grid_x)
     fz = RegularGridInterpolator((bs, gs), grid_z)
 
-    def alpha_map(beta, gamma):
-        bw = wrap_beta(beta)
-        gw = (np.asarray(gamma, float) + np.pi) % (2 * np.pi) - np.pi
-        bw, gw = np.broadcast_arrays(bw, gw)
-        mirror = np.abs(gw) > 0.5 * np.pi
-        pts = np.stack([np.clip(np.where(mirror, -bw, bw), bs[0], bs[-1]),
-                        np.clip(np.where(mirror, np.sign(gw) * np.pi - gw, gw), gs[0], gs[-1])], axis=-1)  # fmt: skip
-        x, z = fx(pts), fz(pts)
-        return np.where(mirror, -x, x), z
+    def on_grid(b, g):  # the fitted range; clipped against rounding at the edges
+        pts = np.stack(np.broadcast_arrays(np.clip(b, bs[0], bs[-1]), np.clip(g, gs[0], gs[-1])), axis=-1)
+        return fx(pts), fz(pts)
 
-    return alpha_map
+    return lambda beta, gamma: mirror_extended(on_grid, beta, gamma)

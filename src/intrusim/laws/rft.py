@@ -134,14 +134,24 @@ def alpha(
         medium (``intrusim.analysis.rft_fit``), usually with xi = 1.
     """
     xi = non_negative("xi", xi)
+    ax, az = mirror_extended(lambda b, g: alpha_fit(b, g, coef), beta, gamma)
+    return xi * N_PER_CM3 * ax, xi * N_PER_CM3 * az
+
+
+def mirror_extended(fit, beta: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``fit(beta, gamma) -> (alpha_x, alpha_z)``, defined for beta, gamma in [-pi/2, pi/2], at any angles.
+
+    beta is wrapped modulo pi (a plate is the same plate rotated by pi); a direction with
+    |gamma| > pi/2 is evaluated at its mirror image x -> -x, (-beta, +-pi - gamma), with
+    alpha_x flipped. Used by :func:`alpha` and by measured maps (``analysis.rft_fit``).
+    """
     b = wrap_beta(beta)
     g = (np.asarray(gamma, float) + np.pi) % (2 * np.pi) - np.pi  # wrap to [-pi, pi)
     mirror = np.abs(g) > 0.5 * np.pi
     g_fit = np.where(mirror, np.sign(g) * np.pi - g, g)
     b_fit = np.where(mirror, -b, b)
-    ax, az = alpha_fit(b_fit, g_fit, coef)
-    ax = np.where(mirror, -ax, ax)
-    return xi * N_PER_CM3 * ax, xi * N_PER_CM3 * az
+    ax, az = fit(b_fit, g_fit)
+    return np.where(mirror, -ax, ax), az
 
 
 def element_angles(normal: np.ndarray, velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
