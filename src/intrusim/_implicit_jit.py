@@ -26,6 +26,7 @@ import numba
 import numpy as np
 
 from intrusim.forces import CHUNK, _alpha_consts, _pseudo_angle, _wrench_kernel
+from intrusim.laws.bulldozing import bulldozing_wrench
 from intrusim.laws.drft import MID_ANGLE_TIE
 
 # status codes
@@ -237,7 +238,7 @@ def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rh
 @numba.njit(cache=True)
 def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
     """(geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack): the rotated elements of one step (_rotate_elements)."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
     mode, dh, _ = _surface_params(fk, fr, fg, vx0, om)
     thr = _contact_threshold(sz, mode, dh)
     n_g, n_l = _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0, vz0, om, v_slack, geo, lead)
@@ -246,12 +247,18 @@ def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
 
 @numba.njit(cache=True)
 def _step_force(spec, frame, work, k, z, th, vx, vz, om):
-    """One force evaluation of a step: from its rotated elements, or from scratch below z_low / on a turned travel sign."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    """One force evaluation of a step: from its rotated elements, or from scratch below z_low / on a turned travel sign;
+    plus the body's bulldozing resistance (laws.bulldozing, 0 unless the model has one)."""
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
     mode, dh, fwd = _surface_params(fk, fr, fg, vx, om)
     if z >= frame[4] and fwd == frame[5]:
-        return _force_rotated(frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh))
-    return _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, 0.0, z, th, vx, vz, om)  # x: unused
+        fx, fz, m = _force_rotated(frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh))
+    else:
+        fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, 0.0, z, th, vx, vz, om)  # x: unused
+    if bs > 0.0:
+        bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
+        fx, m = fx + bx, m + bm
+    return fx, fz, m
 
 
 @numba.njit(cache=True)
@@ -266,7 +273,7 @@ def _implicit_step(
     _rotate_elements and _element_forces,
     ``k``: _alpha_consts of the fit.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
     # theta and omega are fixed in the step: rotate the elements that can touch once
     _, _, fwd = _surface_params(fk, fr, fg, vx0, om1)
     frame = _rotated_frame(spec, th1, z0 + dt * (vz0 - v_slack), fwd, vx0, vz0, om1, v_slack, geo, lead)
@@ -340,11 +347,14 @@ def simulate_implicit(
 
     Returns (status, step index); on failure ``info`` holds the numbers of the message.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
     om = _omega_at(w_target, ramp, t_start)
     angle0 = _angle_at(w_target, ramp, t_start)
     th_base = th0 - angle0
     fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, x, z, th0, vx, vz, om)
+    if bs > 0.0:
+        bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
+        fx, m = fx + bx, m + bm
     out[0, 0], out[1, 0], out[2, 0], out[3, 0], out[4, 0] = x, z, th0, vx, vz
     out[5, 0], out[6, 0], out[7, 0], out[8, 0] = om, fx, fz, m
     iters[0] = 0

@@ -213,7 +213,7 @@ def _locomotor(name: str) -> Any:
 def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
     mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
-    params: str = typer.Option("xi,psi", help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam."),
+    params: str = typer.Option("xi,psi", help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper)."),
     structural: Optional[str] = typer.Option(None, help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none."),
     mpm_push: bool = typer.Option(True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."),
     psi_from_dh: str = typer.Option("none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."),

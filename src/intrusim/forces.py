@@ -28,7 +28,9 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
     MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
+from intrusim.laws.bulldozing import bulldozing_force, bulldozing_scale, bulldozing_wrench
 from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
+from intrusim.params import GRAVITY
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
 Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
@@ -254,6 +256,9 @@ class ResistiveForceModel:
     surface_z : height of the undisturbed free surface, m.
     coef : (4, 3, 2) RFT coefficient table [A, B, C, D][m + 1, n] in N/cm^3, scaled by xi
         (None: the generic Li 2013 fit; ``laws.rft.load_coefficients`` reads a measured one).
+    bulldozing : N/m^2, resistance per squared depth of the body-level bulldozing term
+        F_b = -bulldozing d^2 tanh(v_x / V_REG) (:mod:`intrusim.laws.bulldozing`; 0: none, the paper).
+    radius : m, outer radius of the body: d = surface_z - (z - radius), the depth of its lowest point.
     """
 
     elements: SurfaceElements
@@ -263,9 +268,14 @@ class ResistiveForceModel:
     free_surface: FreeSurfaceModel = field(default_factory=FlatFreeSurface)
     surface_z: float = 0.0
     coef: np.ndarray | None = field(default=None, compare=False)
+    bulldozing: float = 0.0
+    radius: float = 0.0
 
     def __post_init__(self) -> None:
         non_negative("xi", self.xi)
+        non_negative("bulldozing", self.bulldozing)
+        if non_negative("radius", self.radius) == 0.0 and self.bulldozing > 0.0:
+            raise InputError("radius must be > 0 when the bulldozing term is on (it sets the depth d)")
         object.__setattr__(self, "_coef", np.ascontiguousarray(as_table(self.coef)))  # None: the generic table
         non_negative("rho", self.rho)
         non_negative("lambda", self.lam)
@@ -289,16 +299,20 @@ class ResistiveForceModel:
             mode, dh, fwd = self.free_surface.kernel_params(omega, vx)
         else:  # a user-supplied free-surface model without a compiled form
             return tuple(self.wrench_numpy(BodyState(x, z, theta, vx, vz, omega)).as_array())  # type: ignore[return-value]
-        return _wrench_kernel(
+        fx, fz, mom = _wrench_kernel(
             self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
             self._coef, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
         )  # fmt: skip
+        if self.bulldozing > 0.0:
+            bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, z, vx)
+            fx, mom = fx + bx, mom + bm
+        return fx, fz, mom
 
     def compiled_spec(self) -> tuple | None:
         """Arguments of the compiled step loop (``intrusim._implicit_jit``), or None.
 
         (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
-        fs_gravity): fs_kind 0 = flat free surface, 1 / 2 = :class:`WheelRearHalf` with the
+        fs_gravity, bulldozing, radius): fs_kind 0 = flat free surface, 1 / 2 = :class:`WheelRearHalf` with the
         "submerged" / "effective" split and the paper's psi (identity), whose drop
         dh = r (r omega^2 / g) the loop evaluates itself. A linear psi(x) = c x is compiled as
         the identity with g / c in place of g (dh = c r^2 omega^2 / g, equal to rounding). None
@@ -316,7 +330,7 @@ class ResistiveForceModel:
             return None
         return (
             self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), self._coef,
-            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g,
+            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g, float(self.bulldozing), float(self.radius),
         )  # fmt: skip
 
     def element_tractions(self, state: BodyState) -> tuple[np.ndarray, np.ndarray]:
@@ -335,7 +349,13 @@ class ResistiveForceModel:
         _, t = self.element_tractions(state)
         f = t * self.elements.area[:, None]
         moment = float(np.sum(motion.offset[:, 0] * f[:, 1] - motion.offset[:, 1] * f[:, 0]))
-        return Wrench(float(f[:, 0].sum()), float(f[:, 1].sum()), moment)
+        fx = float(f[:, 0].sum())
+        if self.bulldozing > 0.0:  # F_b = -bulldozing d^2 tanh(vx / V_REG), acting 2 d / 3 below the surface
+            d = self.surface_z - (state.z - self.radius)
+            bx = float(bulldozing_force(self.bulldozing, d, state.vx))
+            moment -= (self.surface_z - 2.0 * max(d, 0.0) / 3.0 - state.z) * bx
+            fx += bx
+        return Wrench(fx, float(f[:, 1].sum()), moment)
 
 
 def _is_linear(psi: object) -> bool:
@@ -355,6 +375,9 @@ def make_force_model(
     elements: SurfaceElements | None = None,
     psi: Callable[[float], float] = identity_psi,
     coef: np.ndarray | None = None,
+    bulldozing: float = 0.0,
+    mu: float = 0.56,
+    gravity: float = GRAVITY,
 ) -> ResistiveForceModel:
     """Build one of the paper's force models for ``shape``.
 
@@ -370,12 +393,17 @@ def make_force_model(
         the identity; :func:`~intrusim.laws.drft.free_surface_law` builds a fitted affine one).
     coef
         RFT coefficient table (N/cm^3, scaled by xi); None: the generic Li (2013) fit.
+    bulldozing, mu, gravity
+        k_b of the body-level bulldozing resistance k_b (1/2) K_p(mu) rho g W d^2, d the depth of
+        the shape's outer circle (``shape.radius``), W the elements' width
+        (:mod:`intrusim.laws.bulldozing`; not in the paper, 0 = none). Added to every kind.
     """
     els = shape.elements if elements is None else elements
+    bull = dict(bulldozing=bulldozing_scale(bulldozing, mu, rho, gravity, els.width), radius=float(shape.radius))
     if kind == "rft":
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=0.0, surface_z=surface_z, coef=coef)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=0.0, surface_z=surface_z, coef=coef, **bull)
     if kind == "drft-inertial":
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, surface_z=surface_z, coef=coef)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, surface_z=surface_z, coef=coef, **bull)
     if kind == "drft":
         if structural not in STRUCTURAL_MODELS:
             raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
@@ -384,5 +412,5 @@ def make_force_model(
             fs = WheelRearHalf(shape.radius, psi=psi)
         elif structural == "wheel-rear-half-effective":
             fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef)
+        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull)
     raise InputError(f"force model kind must be 'rft', 'drft-inertial' or 'drft', got {kind!r}")

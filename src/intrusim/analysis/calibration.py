@@ -53,6 +53,7 @@ PARAMETERS: dict[str, Parameter] = {
     "psi": Parameter("psi_slope", (0.0, 5.0), "slope c of the free-surface law psi(x) = a + c x (paper 1)"),
     "psi_offset": Parameter("psi_offset", (-0.5, 0.5), "offset a of psi(x) = a + c x (paper 0)"),
     "lam": Parameter("lam", (0.0, 50.0), "lambda of the inertial correction (paper wheel 1)"),
+    "bulldozing": Parameter("bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)"),
 }
 
 FAILED_RESIDUAL = 10.0

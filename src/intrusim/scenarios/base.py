@@ -18,6 +18,7 @@ from intrusim._checks import InputError
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
 from intrusim.laws.drft import free_surface_law
+from intrusim.params import GRAVITY
 from intrusim.laws.rft import load_coefficients
 
 ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
@@ -65,6 +66,12 @@ class ForceModelConfig(Config):
     rft_coefficients : file of an RFT coefficient table (TOML or JSON, N/cm^3, laid out as
         ``data/rft_li2013.toml``; e.g. one measured on the MPM medium by
         ``examples/mpm_rft_map.py``), scaled by xi. None: the generic Li (2013) fit.
+    bulldozing : k_b of a body-level bulldozing resistance k_b (1/2) K_p rho g W d^2 against the
+        body's travel, d the depth of its outer circle (:mod:`intrusim.laws.bulldozing`). Not in
+        the paper: 0 (default) leaves RFT / DRFT as published; fitted on MPM by
+        :mod:`intrusim.analysis.calibration`.
+    internal_friction : mu = tan(phi) of the medium, for the bulldozing term's Rankine K_p
+        (Table S1: 0.56).
     """
 
     xi: float = Field(0.35, ge=0.0)
@@ -74,6 +81,8 @@ class ForceModelConfig(Config):
     psi_slope: float = Field(1.0, ge=0.0, allow_inf_nan=False)
     psi_offset: float = Field(0.0, allow_inf_nan=False)
     rft_coefficients: str | None = None
+    bulldozing: float = Field(0.0, ge=0.0, allow_inf_nan=False)
+    internal_friction: float = Field(0.56, ge=0.0, allow_inf_nan=False)
 
 
 class RunConfig(Config):
@@ -149,5 +158,6 @@ class ModelKindsMixin(Config):
         psi = free_surface_law(fm.psi_slope, fm.psi_offset)
         coef = None if fm.rft_coefficients is None else load_coefficients(fm.rft_coefficients)
         return make_force_model(
-            kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi, coef=coef
+            kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi, coef=coef,
+            bulldozing=fm.bulldozing, mu=fm.internal_friction, gravity=getattr(self, "gravity", GRAVITY),
         )
