@@ -224,9 +224,11 @@ def calibrate(
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
     rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
+    leave_one_out: bool = typer.Option(False, "--leave-one-out", help="Also refit without each MPM omega in turn and predict it (cross-validation; N more fits)."),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
+    from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.analysis.calibration import load_reference, with_mpm_push, with_parameters
     from intrusim.figures_calibration import Check, psi_from_surface_drop, write_calibration
 
@@ -255,21 +257,32 @@ def calibrate(
             s = with_rft_table(_locomotor(label.strip()), rft_coefficients)
             checks.append(Check(label.strip(), with_mpm_push(s) if mpm_push else s, load_reference(path.strip(), s.name)))
         res = fit(start, ref, names, kind=model, starts=starts)
+        typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
+        _echo_comparison(res.comparison)
+        loo = None
+        if leave_one_out:
+            typer.echo("leave-one-out: each omega predicted by a fit without it")
+            loo = cross_validate(start, ref, names, kind=model, starts=starts, progress=typer.echo)
+            _echo_comparison(loo.comparison)
     except (InputError, ValueError) as err:
         _fail(err)
     meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
                         "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
-                        "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients)}}  # fmt: skip
-    paths = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
-    c = res.comparison
-    typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
+                        "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients),
+                        "leave_one_out": leave_one_out}}  # fmt: skip
+    if loo is not None:
+        meta["leave_one_out"] = loo.summary()
+    for p in write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta):
+        typer.echo(str(p))
+
+
+def _echo_comparison(c: Any) -> None:
+    """A calibration's per-omega table (an ``analysis.calibration.Comparison``) on the terminal."""
     typer.echo(f"{'omega RPM':>9} | {'v MPM':>7} | {'v DRFT':>7} | {'dv':>6} | {'s MPM mm':>8} | {'s DRFT mm':>9} | {'ds':>6}")
     for row in zip(c.omega_rpm, c.velocity_ref, c.velocity_model, c.rel_error_velocity, c.sinkage_ref, c.sinkage_model, c.rel_error_sinkage):
         w, v0, v1, dv, s0, s1, ds = row
         typer.echo(f"{w:9.4g} | {v0:7.4f} | {v1:7.4f} | {dv:+6.1%} | {s0 * 1e3:8.2f} | {s1 * 1e3:9.2f} | {ds:+6.1%}")
     typer.echo(f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}")
-    for p in paths:
-        typer.echo(str(p))
 
 
 def _register_mpm() -> None:

@@ -58,7 +58,8 @@ def psi_from_surface_drop(scenario: LocomotorScenario, reference: SweepResult) -
 
 def _force_label(scenario: LocomotorScenario) -> str:
     fm = scenario.force_model
-    return f"xi {fm.xi:.3g}, psi {fm.psi_offset:.3g} + {fm.psi_slope:.3g} x, lambda {fm.lam:.3g}"
+    bull = f", bulldozing k_b {fm.bulldozing:.3g}" if fm.bulldozing > 0.0 else ""
+    return f"xi {fm.xi:.3g}, psi {fm.psi_offset:.3g} + {fm.psi_slope:.3g} x, lambda {fm.lam:.3g}{bull}"
 
 
 def _verdict(cmp: Comparison) -> dict[str, bool]:

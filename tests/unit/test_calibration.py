@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from intrusim.analysis.calibration import (
-    FAILED_RESIDUAL, calibrate, compare, fit_psi_affine, fit_psi_linear, load_reference, parameter_values,
+    FAILED_RESIDUAL, calibrate, compare, fit_psi_affine, fit_psi_linear, leave_one_out, load_reference, parameter_values,
     drft_steady_states, with_mpm_push, with_parameters,
 )  # fmt: skip
 from intrusim.analysis.steady import run_steady
@@ -98,6 +98,24 @@ def test_calibrate_recovers_known_xi_and_psi(structural):
     assert len(c.rel_error_velocity) == 3 and len(c.residuals()) == 6
     assert c.max_abs_rel_error == max(np.max(np.abs(c.rel_error_velocity)), np.max(np.abs(c.rel_error_sinkage)))
     json.dumps(res.summary())  # JSON-ready
+
+
+def test_calibrate_recovers_a_known_bulldozing_coefficient_and_leave_one_out_predicts_each_omega():
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    ref = drft_steady_states(with_parameters(s, {"bulldozing": 3.0}), [15.0, 30.0, 50.0])
+    res = calibrate(s, ref, ("bulldozing",), starts=1)  # the paper has none (0): starts from Rankine's 1
+    assert res.initial == {"bulldozing": 1.0}
+    assert res.values["bulldozing"] == pytest.approx(3.0, rel=0.02)
+    assert res.max_abs_rel_error < 0.01
+    progress = []
+    loo = leave_one_out(s, ref, ("bulldozing",), starts=1, progress=progress.append)
+    assert len(progress) == 3 and "without 15 RPM" in progress[0]
+    assert [v["bulldozing"] for v in loo.values] == pytest.approx([3.0] * 3, rel=0.03)
+    assert list(loo.comparison.omega_rpm) == [15.0, 30.0, 50.0]
+    assert loo.comparison.max_abs_rel_error < 0.02  # each omega predicted without it
+    json.dumps(loo.summary())
+    with pytest.raises(ValueError, match="at least 3"):
+        leave_one_out(s, _ref([10.0, 20.0], [0.05, 0.1], [0.04, 0.04]), ("bulldozing",))
 
 
 def test_paper_values_do_not_fit_a_stiffer_medium():
@@ -207,6 +225,21 @@ def test_cli_calibrate_writes_json_csv_png(tmp_path):
     cal = [row for row in rows if row["curve"] == "DRFT calibrated" and row["scenario"] == "grousered_wheel"]
     assert [float(row["omega_rpm"]) for row in cal] == [20.0, 80.0]
     assert max(abs(float(row["rel_diff_velocity"])) for row in cal) < 0.005
+
+
+def test_cli_calibrate_leave_one_out(tmp_path):
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    ref = drft_steady_states(with_parameters(s, {"bulldozing": 2.0}), [15.0, 30.0, 50.0]).to_csv(tmp_path / "wheel.csv")
+    args = ["calibrate", "wheel", "--mpm", str(ref), "--structural", "wheel-rear-half", "--params", "bulldozing", "--starts", "1",
+            "--leave-one-out", "--out", str(tmp_path / "out"), "--name", "cal"]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    assert "bulldozing = 2" in r.output and "fold 3/3: without 50 RPM" in r.output
+    report = json.loads((tmp_path / "out" / "cal.json").read_text())
+    assert report["command"]["leave_one_out"] is True
+    held = report["leave_one_out"]["comparison"]
+    assert held["omega_rpm"] == [15.0, 30.0, 50.0] and held["max_abs_rel_error_velocity"] < 0.02
+    assert len(report["leave_one_out"]["fold_values"]) == 3
 
 
 def test_cli_calibrate_bad_input_is_a_message(tmp_path):

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -46,6 +46,9 @@ class Parameter:
     field: str
     bounds: tuple[float, float]
     description: str
+    start_when_off: float | None = None
+    """Starting value of a fit when the scenario's value is 0 (the term is off): at 0 on the lower
+    bound, the finite-difference Jacobian's step sees too small a change to leave it."""
 
 
 PARAMETERS: dict[str, Parameter] = {
@@ -53,7 +56,7 @@ PARAMETERS: dict[str, Parameter] = {
     "psi": Parameter("psi_slope", (0.0, 5.0), "slope c of the free-surface law psi(x) = a + c x (paper 1)"),
     "psi_offset": Parameter("psi_offset", (-0.5, 0.5), "offset a of psi(x) = a + c x (paper 0)"),
     "lam": Parameter("lam", (0.0, 50.0), "lambda of the inertial correction (paper wheel 1)"),
-    "bulldozing": Parameter("bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)"),
+    "bulldozing": Parameter("bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)", 1.0),
 }
 
 FAILED_RESIDUAL = 10.0
@@ -351,7 +354,8 @@ def calibrate(
     reference : MPM steady states (:func:`load_reference`), at least 2 omegas, finite.
     params : names from :data:`PARAMETERS`: "xi", "psi" (slope c), "psi_offset" (a), "lam".
     kind : DRFT force-model kind ("drft"; "rft" or "drft-inertial" ignore the psi parameters).
-    initial : starting values (default: the scenario's, clipped into the bounds).
+    initial : starting values (default: the scenario's, clipped into the bounds; a term the
+        scenario has off (0) starts from its ``Parameter.start_when_off``, bulldozing from 1).
     bounds : (low, high) per parameter (default :data:`PARAMETERS` bounds).
     diff_step : relative finite-difference step of the Jacobian (the steady state is only
         piecewise smooth in the parameters: machine-precision steps see its jumps).
@@ -374,7 +378,9 @@ def calibrate(
     for p, (lo, hi) in bnd.items():
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"bounds of {p} must be finite with low < high, got {(lo, hi)}")
-    x0 = parameter_values(scenario, names) | {p: float(v) for p, v in (initial or {}).items() if p in names}
+    x0 = {p: (PARAMETERS[p].start_when_off if v == 0.0 and PARAMETERS[p].start_when_off is not None else v)
+          for p, v in parameter_values(scenario, names).items()}  # fmt: skip
+    x0 |= {p: float(v) for p, v in (initial or {}).items() if p in names}
     unknown = set(initial or {}) - set(names)
     if unknown:
         raise ValueError(f"initial values given for parameters that are not fitted: {sorted(unknown)}")
@@ -409,3 +415,51 @@ def calibrate(
         cost=float(fit.cost), nfev=len(cache), success=bool(fit.success), message=str(fit.message),
         meta={"local_fits": local} if starts > 1 else {},
     )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class LeaveOneOut:
+    """Cross-validation of a calibration: each reference omega predicted by a fit without it.
+
+    Attributes
+    ----------
+    comparison : the held-out predictions against the reference (per-omega relative errors).
+    values : the fitted values of each fold (fold i leaves out ``comparison.omega_rpm[i]``).
+    """
+
+    comparison: Comparison
+    values: list[dict[str, float]]
+
+    def summary(self) -> dict[str, Any]:
+        return {"comparison": self.comparison.summary(), "fold_values": self.values}
+
+
+def leave_one_out(
+    scenario: LocomotorScenario,
+    reference: SweepResult,
+    params: Sequence[str] = ("xi", "psi"),
+    *,
+    kind: str = "drft",
+    progress: Callable[[str], None] | None = None,
+    **fit_options: Any,
+) -> LeaveOneOut:
+    """Refit ``params`` without each reference omega in turn and predict that omega.
+
+    A calibration's errors at the points it was fitted on say how well it fits; the errors of
+    these held-out predictions say how well it predicts an omega it has not seen.
+    ``fit_options`` go to :func:`calibrate` (starts, bounds, ...). Needs at least 3 omegas and
+    2 (N - 1) >= the number of parameters.
+    """
+    w, v, s = _reference_arrays(reference)
+    if len(w) < 3:
+        raise ValueError(f"leave-one-out needs at least 3 reference omegas, got {len(w)}")
+    v_pred, s_pred, folds = np.full(len(w), math.nan), np.full(len(w), math.nan), []
+    for i in range(len(w)):
+        rest = SweepResult(reference.scenario, reference.kind, reference.lam, [r for j, r in enumerate(reference.records) if j != i], meta=reference.meta)
+        fit = calibrate(scenario, rest, params, kind=kind, **fit_options)
+        held = drft_steady_states(fit.scenario, [float(w[i])], kind)
+        v_pred[i], s_pred[i] = held.column("velocity")[0], held.column("sinkage")[0]
+        folds.append(fit.values)
+        if progress is not None:
+            progress(f"fold {i + 1}/{len(w)}: without {w[i]:g} RPM, {', '.join(f'{p} = {x:.4g}' for p, x in fit.values.items())}")
+    return LeaveOneOut(Comparison(scenario.name, w, v, s, v_pred, s_pred), folds)
