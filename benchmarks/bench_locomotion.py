@@ -11,6 +11,10 @@ Run:  python benchmarks/bench_locomotion.py [--repeat N]
 * "explicit NumPy baseline": forward Euler with dt = 1 ms and the vectorised NumPy force path
   (``model.wrench_numpy``), same scenario, same duration, same steady-state window.
 
+* ``--bulldozing K``: also the same steady state with the bulldozing term (``laws.bulldozing``,
+  k_b = K), in the same run, per step against the plain compiled loop (the two reach steady
+  state in different numbers of steps).
+
 Targets (issue): >= 1000x real time for one steady state; 9-point sweep (10-90 RPM) < 1 s.
 Every figure is the best of ``--repeat`` rounds (the development machine is shared); compare the
 ratios, which are measured in the same run.
@@ -48,6 +52,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--kind", default="drft")
     ap.add_argument("--omega-rpm", type=float, default=30.0)
+    ap.add_argument("--bulldozing", type=float, default=0.0, help="also time the steady state with this k_b")
     a = ap.parse_args()
     wheel = get_scenario("wheel")
     run_steady(wheel, a.kind, 10.0)  # warm-up: load the compiled kernel
@@ -103,6 +108,18 @@ def main() -> None:
     print(f"of one steady state: integrator (simulate) {t_int * 1e3:.2f} ms, set-up + steady-state analysis "
           f"{(t_one - t_int) * 1e3:.2f} ms")  # fmt: skip
     print(f"9-point sweep: {t_sweep:.3f} s serial (target < 1 s); NumPy baseline per steady state {t_base:.2f} s")
+    if a.bulldozing > 0.0:
+        from intrusim.analysis.calibration import with_parameters
+
+        bull = with_parameters(wheel, {"bulldozing": a.bulldozing})
+        run_steady(bull, a.kind, 10.0)
+        t_b, st_b = best_of(lambda: run_steady(bull, a.kind, a.omega_rpm), a.repeat)
+        t_p, _ = best_of(lambda: run_steady(wheel, a.kind, a.omega_rpm), a.repeat)  # plain again, beside it
+        n_b = len(st_b.trajectory.t) - 1
+        per_b, per_p = t_b / n_b * 1e6, t_p / n_steps_one * 1e6
+        print(f"with bulldozing k_b = {a.bulldozing:g}: {t_b * 1e3:.2f} ms for {n_b} steps ({per_b:.1f} us per step, "
+              f"v {st_b.velocity:.4f} m/s, sinkage {st_b.sinkage * 1e3:.2f} mm); plain, same minute: {t_p * 1e3:.2f} ms "
+              f"for {n_steps_one} steps ({per_p:.1f} us per step); per-step ratio {per_b / per_p:.2f}")  # fmt: skip
     print("sweep records:")
     print(res.table())
 
