@@ -28,7 +28,7 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
     MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
 )  # fmt: skip
-from intrusim.laws.bulldozing import bulldozing_force, bulldozing_scale, bulldozing_wrench
+from intrusim.laws.bulldozing import bulldozing_scale, bulldozing_wrench
 from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
 from intrusim.params import GRAVITY
 
@@ -350,11 +350,9 @@ class ResistiveForceModel:
         f = t * self.elements.area[:, None]
         moment = float(np.sum(motion.offset[:, 0] * f[:, 1] - motion.offset[:, 1] * f[:, 0]))
         fx = float(f[:, 0].sum())
-        if self.bulldozing > 0.0:  # F_b = -bulldozing d^2 tanh(vx / V_REG), acting 2 d / 3 below the surface
-            d = self.surface_z - (state.z - self.radius)
-            bx = float(bulldozing_force(self.bulldozing, d, state.vx))
-            moment -= (self.surface_z - 2.0 * max(d, 0.0) / 3.0 - state.z) * bx
-            fx += bx
+        if self.bulldozing > 0.0:
+            bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, state.z, state.vx)
+            fx, moment = fx + bx, moment + bm
         return Wrench(fx, float(f[:, 1].sum()), moment)
 
 

@@ -154,7 +154,8 @@ def grousered_wheel_scenario() -> LocomotorScenario:
         gravity=w["gravity"], external_fx=0.0, length_scale=w["outer_diameter"],
         supported_models=ALL_KINDS,
         force_model=ForceModelConfig(
-            xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=1.0, structural="wheel-rear-half"
+            xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=1.0, structural="wheel-rear-half",
+            internal_friction=ps["internal_friction"],
         ),
     )  # fmt: skip
 
@@ -195,7 +196,8 @@ def four_flap_runner_scenario(lam: float = 4.0) -> LocomotorScenario:
         hub_elements_per_segment=14, lug_elements_per_face=16,
         mass_x=r["mass"], mass_z=r["mass"], gravity=r["gravity"], external_fx=0.0,
         length_scale=r["outer_diameter"], supported_models=ALL_KINDS,
-        force_model=ForceModelConfig(xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=lam, structural="none"),
+        force_model=ForceModelConfig(xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=lam, structural="none",
+                                     internal_friction=ps["internal_friction"]),
     )  # fmt: skip
 
 
