@@ -225,6 +225,7 @@ def calibrate(
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
     rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
     leave_one_out: bool = typer.Option(False, "--leave-one-out", help="Also refit without each MPM omega in turn and predict it (cross-validation; N more fits)."),
+    workers: int = typer.Option(1, min=1, help="Processes for the leave-one-out folds (a local Dask cluster when > 1)."),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
@@ -262,14 +263,15 @@ def calibrate(
         loo = None
         if leave_one_out:
             typer.echo("leave-one-out: each omega predicted by a fit without it")
-            loo = cross_validate(start, ref, names, kind=model, starts=starts, progress=typer.echo)
+            loo = cross_validate(start, ref, names, kind=model, starts=starts, progress=typer.echo,
+                                 parallel=workers > 1, n_workers=workers)  # fmt: skip
             _echo_comparison(loo.comparison)
     except (InputError, ValueError) as err:
         _fail(err)
     meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
                         "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
                         "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients),
-                        "leave_one_out": leave_one_out}}  # fmt: skip
+                        "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
     if loo is not None:
         meta["leave_one_out"] = loo.summary()
     for p in write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta):

@@ -114,6 +114,10 @@ def test_calibrate_recovers_a_known_bulldozing_coefficient_and_leave_one_out_pre
     assert list(loo.comparison.omega_rpm) == [15.0, 30.0, 50.0]
     assert loo.comparison.max_abs_rel_error < 0.02  # each omega predicted without it
     json.dumps(loo.summary())
+    par = leave_one_out(s, ref, ("bulldozing",), starts=1, parallel=True, n_workers=2)  # a local Dask cluster
+    assert par.values == loo.values
+    assert np.array_equal(par.comparison.velocity_model, loo.comparison.velocity_model)
+    assert np.array_equal(par.comparison.sinkage_model, loo.comparison.sinkage_model)
     with pytest.raises(ValueError, match="at least 3"):
         leave_one_out(s, _ref([10.0, 20.0], [0.05, 0.1], [0.04, 0.04]), ("bulldozing",))
 

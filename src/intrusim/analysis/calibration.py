@@ -31,7 +31,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
-from intrusim.analysis.sweep import SweepResult, sweep_omega
+from intrusim.analysis.sweep import SweepResult, dask_map, sweep_omega
 from intrusim.params import GRAVITY
 from intrusim.scenarios.base import ForceModelConfig
 from intrusim.scenarios.locomotor import LocomotorScenario
@@ -441,6 +441,9 @@ def leave_one_out(
     *,
     kind: str = "drft",
     progress: Callable[[str], None] | None = None,
+    parallel: bool = False,
+    n_workers: int | None = None,
+    scheduler_address: str | None = None,
     **fit_options: Any,
 ) -> LeaveOneOut:
     """Refit ``params`` without each reference omega in turn and predict that omega.
@@ -448,18 +451,44 @@ def leave_one_out(
     A calibration's errors at the points it was fitted on say how well it fits; the errors of
     these held-out predictions say how well it predicts an omega it has not seen.
     ``fit_options`` go to :func:`calibrate` (starts, bounds, ...). Needs at least 3 omegas and
-    2 (N - 1) >= the number of parameters.
+    2 (N - 1) >= the number of parameters. ``parallel``: the N folds run on a Dask cluster
+    (:func:`intrusim.analysis.sweep.dask_map`: ``n_workers`` local processes, or the cluster at
+    ``scheduler_address``); the same numbers as in series. ``progress`` gets one line per fold.
     """
     w, v, s = _reference_arrays(reference)
     if len(w) < 3:
         raise ValueError(f"leave-one-out needs at least 3 reference omegas, got {len(w)}")
-    v_pred, s_pred, folds = np.full(len(w), math.nan), np.full(len(w), math.nan), []
-    for i in range(len(w)):
-        rest = SweepResult(reference.scenario, reference.kind, reference.lam, [r for j, r in enumerate(reference.records) if j != i], meta=reference.meta)
-        fit = calibrate(scenario, rest, params, kind=kind, **fit_options)
-        held = drft_steady_states(fit.scenario, [float(w[i])], kind)
-        v_pred[i], s_pred[i] = held.column("velocity")[0], held.column("sinkage")[0]
-        folds.append(fit.values)
-        if progress is not None:
-            progress(f"fold {i + 1}/{len(w)}: without {w[i]:g} RPM, {', '.join(f'{p} = {x:.4g}' for p, x in fit.values.items())}")
-    return LeaveOneOut(Comparison(scenario.name, w, v, s, v_pred, s_pred), folds)
+    folds = [
+        (scenario, SweepResult(reference.scenario, reference.kind, reference.lam,
+                               [r for j, r in enumerate(reference.records) if j != i], meta=reference.meta),
+         tuple(params), kind, float(w[i]), fit_options)
+        for i in range(len(w))
+    ]  # fmt: skip
+    if parallel:  # the lines come when all folds are done (a progress bar meanwhile)
+        results = dask_map(_fold, folds, scheduler_address=scheduler_address, n_workers=n_workers,
+                           progress=progress is not None, desc="leave-one-out folds")  # fmt: skip
+        for i, (values, _, _) in enumerate(results):
+            _fold_line(progress, i, w, values)
+    else:
+        results = []
+        for i, args in enumerate(folds):
+            results.append(_fold(*args))
+            _fold_line(progress, i, w, results[-1][0])
+    v_pred = np.array([r[1] for r in results])
+    s_pred = np.array([r[2] for r in results])
+    return LeaveOneOut(Comparison(scenario.name, w, v, s, v_pred, s_pred), [r[0] for r in results])
+
+
+def _fold(
+    scenario: LocomotorScenario, rest: SweepResult, params: Sequence[str], kind: str, omega_rpm: float,
+    fit_options: Mapping[str, Any],
+) -> tuple[dict[str, float], float, float]:  # fmt: skip
+    """One leave-one-out fold: fit on ``rest``, predict ``omega_rpm``; (values, v m/s, sinkage m)."""
+    fit = calibrate(scenario, rest, params, kind=kind, **fit_options)
+    held = drft_steady_states(fit.scenario, [omega_rpm], kind)
+    return fit.values, float(held.column("velocity")[0]), float(held.column("sinkage")[0])
+
+
+def _fold_line(progress: Callable[[str], None] | None, i: int, w: np.ndarray, values: Mapping[str, float]) -> None:
+    if progress is not None:
+        progress(f"fold {i + 1}/{len(w)}: without {w[i]:g} RPM, {', '.join(f'{p} = {x:.4g}' for p, x in values.items())}")

@@ -14,7 +14,7 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -120,10 +120,16 @@ class SweepResult:
         return cls(scenario, kind, None, records, meta={"source": str(p)})
 
 
-def _run_dask(
-    scenario: Any, kind: str, omegas: list[float], lam: float | None, scheduler_address: str | None,
-    n_workers: int | None, progress: bool,
-) -> list[dict[str, Any]]:  # fmt: skip
+def dask_map(
+    fn: Callable[..., Any], args: Sequence[tuple], *, scheduler_address: str | None = None, n_workers: int | None = None,
+    progress: bool = True, desc: str = "tasks", on_error: Callable[[int, Exception], Any] | None = None,
+) -> list[Any]:  # fmt: skip
+    """``[fn(*a) for a in args]`` on a Dask cluster, in the order of ``args``.
+
+    None for ``scheduler_address`` starts a LocalCluster of ``n_workers`` processes (default: one
+    per core, one thread each) for this call. A task whose result cannot be had (an exception in
+    ``fn``, a lost worker) raises, or becomes ``on_error(i, err)`` when that is given.
+    """
     from dask.distributed import Client, LocalCluster, as_completed
 
     cluster = None
@@ -135,29 +141,31 @@ def _run_dask(
     else:
         client = Client(scheduler_address)
     try:
-        futures = [client.submit(sweep_point, scenario, kind, w, lam, pure=False) for w in omegas]
+        futures = [client.submit(fn, *a, pure=False) for a in args]
         index = {f.key: i for i, f in enumerate(futures)}
-        out: list[dict[str, Any] | None] = [None] * len(omegas)
-        bar = _bar(len(omegas), progress)
+        out: list[Any] = [None] * len(futures)
+        bar = _bar(len(futures), progress, desc)
         for fut in as_completed(futures):
             i = index[fut.key]
             try:
                 out[i] = fut.result()
             except Exception as err:  # noqa: BLE001 - worker lost, unpicklable result...
-                out[i] = {"omega_rpm": omegas[i], "ok": False, "error": f"{type(err).__name__}: {err}"}
+                if on_error is None:
+                    raise
+                out[i] = on_error(i, err)
             bar.update(1)
         bar.close()
-        return out  # type: ignore[return-value]
+        return out
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
 
 
-def _bar(total: int, enabled: bool) -> Any:
+def _bar(total: int, enabled: bool, desc: str = "omega sweep") -> Any:
     from tqdm import tqdm
 
-    return tqdm(total=total, disable=not enabled, desc="omega sweep", unit="pt", leave=False)
+    return tqdm(total=total, disable=not enabled, desc=desc, leave=False)
 
 
 def sweep_omega(
@@ -190,7 +198,11 @@ def sweep_omega(
     if kind not in scenario.supported_models:
         raise InputError(f"scenario {scenario.name!r} supports {list(scenario.supported_models)}, got {kind!r}")
     if parallel:
-        records = _run_dask(scenario, kind, omegas, lam, scheduler_address, n_workers, progress)
+        records = dask_map(
+            sweep_point, [(scenario, kind, w, lam) for w in omegas], scheduler_address=scheduler_address,
+            n_workers=n_workers, progress=progress, desc="omega sweep",
+            on_error=lambda i, err: {"omega_rpm": omegas[i], "ok": False, "error": f"{type(err).__name__}: {err}"},
+        )  # fmt: skip
     else:
         bar = _bar(len(omegas), progress)
         records = []
