@@ -225,7 +225,7 @@ def calibrate(
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
     rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
     leave_one_out: bool = typer.Option(False, "--leave-one-out", help="Also refit without each MPM omega in turn and predict it (cross-validation; N more fits)."),
-    workers: int = typer.Option(1, min=1, help="Processes for the leave-one-out folds (a local Dask cluster when > 1)."),
+    workers: int = typer.Option(1, min=1, help="Processes for the local fits (--starts) and the leave-one-out folds: a local Dask cluster when > 1."),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
@@ -257,7 +257,7 @@ def calibrate(
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
             s = with_rft_table(_locomotor(label.strip()), rft_coefficients)
             checks.append(Check(label.strip(), with_mpm_push(s) if mpm_push else s, load_reference(path.strip(), s.name)))
-        res = fit(start, ref, names, kind=model, starts=starts)
+        res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
         typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
         _echo_comparison(res.comparison)
         loo = None

@@ -122,6 +122,16 @@ def test_calibrate_recovers_a_known_bulldozing_coefficient_and_leave_one_out_pre
         leave_one_out(s, _ref([10.0, 20.0], [0.05, 0.1], [0.04, 0.04]), ("bulldozing",))
 
 
+def test_local_fits_on_dask_give_the_serial_result():
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    ref = drft_steady_states(with_parameters(s, {"bulldozing": 3.0}), [15.0, 50.0])
+    ser = calibrate(s, ref, ("bulldozing",), starts=3, max_nfev=8)
+    par = calibrate(s, ref, ("bulldozing",), starts=3, max_nfev=8, parallel=True, n_workers=2)
+    assert par.values == ser.values and par.cost == ser.cost and par.nfev == ser.nfev
+    assert par.meta == ser.meta and len(par.meta["local_fits"]) == 3
+    assert np.array_equal(par.comparison.velocity_model, ser.comparison.velocity_model)
+
+
 def test_paper_values_do_not_fit_a_stiffer_medium():
     s = _wheel()
     ref = drft_steady_states(with_parameters(s, {"xi": 0.8, "psi": 0.6}), [20.0, 80.0])

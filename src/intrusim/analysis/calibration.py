@@ -340,6 +340,9 @@ def calibrate(
     max_nfev: int = 60,
     starts: int = 1,
     seed: int = 0,
+    parallel: bool = False,
+    n_workers: int | None = None,
+    scheduler_address: str | None = None,
 ) -> CalibrationResult:
     """Fit DRFT parameters of ``scenario`` to MPM steady states by bounded least squares.
 
@@ -364,6 +367,8 @@ def calibrate(
         Halton sequence (``seed``) filling the bounds; the fit of least cost is returned (the
         cost has several local minima: the steady state jumps as elements switch on and off).
     seed : seed of the Halton sequence.
+    parallel : run the local fits on a Dask cluster (:func:`intrusim.analysis.sweep.dask_map`:
+        ``n_workers`` local processes, or the cluster at ``scheduler_address``); the same result.
 
     Raises
     ------
@@ -387,6 +392,46 @@ def calibrate(
     if not all(math.isfinite(v) for v in x0.values()):
         raise ValueError(f"initial values must be finite, got {x0}")
     start = np.array([min(max(x0[p], bnd[p][0]), bnd[p][1]) for p in names])
+    if starts < 1:
+        raise ValueError(f"starts must be >= 1, got {starts!r}")
+    lo, hi = np.array([bnd[p][0] for p in names]), np.array([bnd[p][1] for p in names])
+    points = [start]
+    if starts > 1:
+        points += list(lo + (hi - lo) * qmc.Halton(len(names), seed=seed).random(starts - 1))
+    tasks = [(scenario, reference, names, kind, x, lo, hi, diff_step, max_nfev) for x in points]
+    if parallel:
+        fits = dask_map(_local_fit, tasks, scheduler_address=scheduler_address, n_workers=n_workers, progress=False)
+    else:
+        fits = [_local_fit(*t) for t in tasks]
+    fit = min(fits, key=lambda f: f.cost)
+    values = dict(zip(names, (float(v) for v in fit.x)))
+    local = [{"start": dict(zip(names, map(float, x))), "values": dict(zip(names, map(float, f.x))), "cost": float(f.cost)}
+             for x, f in zip(points, fits)]  # fmt: skip
+    return CalibrationResult(
+        scenario=with_parameters(scenario, values), params=names, values=values,
+        initial=dict(zip(names, (float(v) for v in start))), bounds=bnd, comparison=fit.comparison,
+        cost=float(fit.cost), nfev=len(set().union(*(f.evaluated for f in fits))), success=bool(fit.success),
+        message=str(fit.message), meta={"local_fits": local} if starts > 1 else {},
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _LocalFit:
+    """One local least-squares fit of :func:`calibrate` (a task of its own: picklable)."""
+
+    x: np.ndarray
+    cost: float
+    success: bool
+    message: str
+    comparison: Comparison  # at x
+    evaluated: frozenset  # the parameter sets it evaluated
+
+
+def _local_fit(
+    scenario: LocomotorScenario, reference: SweepResult, names: tuple[str, ...], kind: str, x0: np.ndarray,
+    lo: np.ndarray, hi: np.ndarray, diff_step: float, max_nfev: int,
+) -> _LocalFit:  # fmt: skip
+    """scipy's least_squares of the relative v and sinkage errors from ``x0``, each parameter set evaluated once."""
     cache: dict[tuple[float, ...], Comparison] = {}
 
     def evaluate(x: np.ndarray) -> Comparison:
@@ -395,26 +440,8 @@ def calibrate(
             cache[key] = compare(with_parameters(scenario, dict(zip(names, key))), reference, kind)
         return cache[key]
 
-    if starts < 1:
-        raise ValueError(f"starts must be >= 1, got {starts!r}")
-    lo, hi = np.array([bnd[p][0] for p in names]), np.array([bnd[p][1] for p in names])
-    points = [start]
-    if starts > 1:
-        points += list(lo + (hi - lo) * qmc.Halton(len(names), seed=seed).random(starts - 1))
-    fits = [
-        least_squares(lambda x: evaluate(x).residuals(), x, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev)
-        for x in points
-    ]  # fmt: skip
-    fit = min(fits, key=lambda f: f.cost)
-    values = dict(zip(names, (float(v) for v in fit.x)))
-    local = [{"start": dict(zip(names, map(float, x))), "values": dict(zip(names, map(float, f.x))), "cost": float(f.cost)}
-             for x, f in zip(points, fits)]  # fmt: skip
-    return CalibrationResult(
-        scenario=with_parameters(scenario, values), params=names, values=values,
-        initial=dict(zip(names, (float(v) for v in start))), bounds=bnd, comparison=evaluate(fit.x),
-        cost=float(fit.cost), nfev=len(cache), success=bool(fit.success), message=str(fit.message),
-        meta={"local_fits": local} if starts > 1 else {},
-    )  # fmt: skip
+    f = least_squares(lambda x: evaluate(x).residuals(), x0, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev)
+    return _LocalFit(f.x, float(f.cost), bool(f.success), str(f.message), evaluate(f.x), frozenset(cache))
 
 
 @dataclass(frozen=True)
