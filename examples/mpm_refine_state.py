@@ -59,8 +59,9 @@ def main() -> None:
     if own.exists():  # resume: time origin as recorded (the source run may have gone on since)
         t0 = float(json.loads((out / "locomotion.json").read_text())["refined_from"]["t"])
         cfg = refined_config(args.run, args.factor, t0 + args.t_more, args.threads, out)
-        solver = Solver(cfg, particles=mpm_io.load_checkpoint(own)[0])  # the split count, not a fresh bed's
-        solver.load_checkpoint(own)
+        arrays, meta = mpm_io.load_checkpoint(own)
+        solver = Solver(cfg, particles=arrays)  # the split count, not a fresh bed's
+        solver.restore(arrays, meta)
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     else:
         arrays, meta = mpm_io.load_checkpoint(src)
@@ -68,11 +69,7 @@ def main() -> None:
         cfg = refined_config(args.run, args.factor, t0 + args.t_more, args.threads, out)
         spacing = args.factor * cfg.domain.size[0] / cfg.domain.cells[0] / cfg.domain.particles_per_cell
         solver = Solver(cfg, particles=split_points(arrays, spacing, args.factor))
-        solver.step_count = int(round(t0 / solver.dt))
-        solver._step_mark = solver.step_count  # forces averaged from here
-        for body, state in zip(solver.intruders, meta["bodies"]):
-            for name, val in state.items():
-                setattr(body.state, name, val)
+        solver.start_from(int(round(t0 / solver.dt)), meta["bodies"])
         out.mkdir(parents=True, exist_ok=True)
         info = json.loads((args.run / "locomotion.json").read_text())
         info["settings"]["cells"] = cfg.domain.cells

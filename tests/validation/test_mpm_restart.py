@@ -6,6 +6,7 @@ order may vary with 2+ threads: forces are compared to 1e-9 relative.
 """
 
 import numpy as np
+import pytest
 
 from intrusim.mpm.plate import PlateDragCase
 from intrusim.mpm.solver import Solver
@@ -89,3 +90,30 @@ def test_checkpoint_from_before_the_front_rear_split_resumes(tmp_path):
             np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)
     header, first = (tmp_path / "old" / "timeseries.csv").read_text().splitlines()[:2]
     assert header.split(",").count("fx_ahead") == 1 and first.split(",")[header.split(",").index("fx_ahead")] == ""
+
+
+def test_a_state_carried_on_by_another_solver_keeps_its_clock_and_bodies(tmp_path):
+    # Solver.restore (a checkpoint already read) equals load_checkpoint; Solver.start_from sets the
+    # clock, the bodies and the start of the force averages for a state carried over from another run
+    from intrusim.mpm import io as mpm_io
+
+    cfg = _config(tmp_path, "src")
+    src = Solver(cfg)
+    src.run(t_end=0.5 * cfg.time.t_end)
+    src.checkpoint_run_folder()
+    arrays, meta = mpm_io.load_checkpoint(tmp_path / "src" / "checkpoint.npz")
+    a, b = Solver(_config(tmp_path, "a")), Solver(_config(tmp_path, "b"))
+    a.load_checkpoint(tmp_path / "src" / "checkpoint.npz")
+    b.restore(arrays, meta)
+    for key in ("x", "v", "sigma"):
+        np.testing.assert_array_equal(a.particle_fields()[key], b.particle_fields()[key])
+    assert a.step_count == b.step_count == src.step_count and a.rows == b.rows
+
+    c = Solver(_config(tmp_path, "c"), particles=arrays)
+    c.start_from(src.step_count, meta["bodies"])
+    assert c.step_count == src.step_count and c.t == src.t
+    assert c.intruders[0].state.as_dict() == src.intruders[0].state.as_dict()
+    c.run(t_end=c.t + 3 * c.dt)
+    assert c.step_count == src.step_count + 3
+    with pytest.raises(ValueError, match="body states"):
+        c.start_from(0, [])

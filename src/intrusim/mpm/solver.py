@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -285,7 +286,10 @@ class Solver:
 
     def load_checkpoint(self, path: Path) -> None:
         """Restore the state saved by :meth:`save_checkpoint` (same config)."""
-        arrays, meta = mpm_io.load_checkpoint(Path(path))
+        self.restore(*mpm_io.load_checkpoint(Path(path)))
+
+    def restore(self, arrays: dict[str, np.ndarray], meta: dict[str, Any]) -> None:
+        """Restore a checkpoint already read (``mpm.io.load_checkpoint``; same config)."""
         if not math.isclose(meta["dt"], self.dt, rel_tol=1e-12):
             raise ValueError(f"checkpoint dt {meta['dt']} differs from this config's dt {self.dt}")
         self.particles.load(arrays)
@@ -301,6 +305,18 @@ class Solver:
             self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
             self._impulse_mark_ahead[k] = np.asarray(meta.get("impulse_mark_ahead", [np.zeros(3)] * len(self.intruders))[k])
+
+    def start_from(self, step_count: int, bodies: Sequence[dict[str, float]]) -> None:
+        """Carry on another run's state (e.g. its points split for finer cells): the clock at
+        ``step_count`` steps of this solver's dt, the bodies in ``bodies`` (``state.as_dict()``
+        of each), and the force averages of the next rows starting here."""
+        if len(bodies) != len(self.intruders):
+            raise ValueError(f"{len(bodies)} body states for {len(self.intruders)} bodies")
+        self.step_count = int(step_count)
+        self._step_mark = self.step_count
+        for body, state in zip(self.intruders, bodies):
+            for name, val in state.items():
+                setattr(body.state, name, val)
 
     @classmethod
     def resume(cls, run_dir: str | Path) -> "Solver":
