@@ -228,6 +228,7 @@ def test_cli_calibrate_writes_json_csv_png(tmp_path):
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
     assert "xi = 0.8" in r.output and "max |relative error|" in r.output
+    assert "check small_wheel (small_grousered_wheel, fitted values reused): 30 RPM v " in r.output
     out = tmp_path / "out"
     assert (out / "cal.png").stat().st_size > 1000
     report = json.loads((out / "cal.json").read_text())
