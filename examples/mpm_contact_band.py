@@ -11,6 +11,8 @@ law with a chosen band.
     python examples/mpm_contact_band.py wheel 90 --cell-mm 1.25 --small --band 0 --domain 0.6 0.5 --t-max 1.25  # ~1 h
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
         --start-depth-mm 46 --t-max 4.0 --out runs/embedded  # starts embedded, ~23 min on 1 thread
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
+        --lug-count 30 --t-max 3.0 --out runs/lugs   # a 30-grouser wheel, ~30 min on 1 thread
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -47,6 +49,9 @@ from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_m
 
 def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
+    if args.lug_count is not None:  # another wheel of the same hub, grousers and inertias
+        scenario = type(scenario).model_validate(
+            {**scenario.model_dump(), "lug_count": args.lug_count, "name": f"{scenario.name}_{args.lug_count}lugs"})
     base = paper_settings("wheel")
     domain = tuple(args.domain) if args.domain else base.domain
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
@@ -200,6 +205,8 @@ r.add_argument("--bed-depth", type=float, default=None, metavar="M",
                help="undisturbed bed height, m (default: the scenario's, 0.3 m for the wheels)")
 r.add_argument("--start-depth-mm", type=float, default=0.0, metavar="MM",
                help="start with the wheel's lowest point MM below the surface, embedded (default: resting on it)")
+r.add_argument("--lug-count", type=int, default=None, metavar="N",
+               help="N grousers instead of Table S1's (same size, hub and inertias): a new wheel for DRFT to predict")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")

@@ -1,0 +1,124 @@
+"""A new wheel for DRFT to predict: the Table S1 wheel with another number of grousers.
+
+The bulldozing coefficient k_b was fitted on the 20-grouser wheel (docs/results.md, "A body-level
+resistance: DRFT + bulldozing"). Here DRFT predicts, before any MPM run of them, wheels of the same
+hub, grouser size and inertias with N grousers at one omega; the MPM runs
+(`examples/mpm_contact_band.py wheel 30 ... --lug-count N`) are then set against the prediction.
+
+    python examples/wheel_lug_count.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
+        --out docs/figures/wheel_lugs_prediction.csv
+    python examples/wheel_lug_count.py compare runs/lugs/* --window 2.0 3.0 \
+        --prediction docs/figures/wheel_lugs_prediction.csv --out docs/figures/wheel_lugs
+
+`predict` writes, for each N and model (the paper's DRFT; the paper's DRFT + bulldozing with the
+calibration's k_b), the steady v and sinkage with the MPM's 4 N push. `compare` averages each MPM
+run over the window (`summarise_run`), writes NAME.csv (MPM and prediction per N) and NAME.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from intrusim.analysis.calibration import with_mpm_push, with_parameters  # noqa: E402
+from intrusim.analysis.steady import run_steady  # noqa: E402
+from intrusim.scenarios import grousered_wheel_scenario  # noqa: E402
+
+FIELDS = ("lug_count", "omega_rpm", "model", "velocity", "sinkage", "slip")
+
+
+def wheel(lug_count: int, k_b: float):
+    """The paper's DRFT wheel (rear half, lambda 1, the identity psi) with ``lug_count`` grousers, the 4 N push and k_b."""
+    base = with_mpm_push(grousered_wheel_scenario())
+    s = type(base).model_validate({**base.model_dump(), "lug_count": lug_count})
+    return with_parameters(s, {"bulldozing": k_b})
+
+
+def predict(args: argparse.Namespace) -> None:
+    k_b = float(json.loads(Path(args.calibration).read_text())["calibration"]["values"]["bulldozing"])
+    rows = []
+    for n in args.lug_counts:
+        for label, k in (("DRFT (paper)", 0.0), (f"DRFT + bulldozing (k_b {k_b:.3g})", k_b)):
+            st = run_steady(wheel(n, k), "drft", args.rpm)
+            rows.append({"lug_count": n, "omega_rpm": args.rpm, "model": label, "velocity": st.velocity,
+                         "sinkage": st.sinkage, "slip": st.slip})  # fmt: skip
+            print(f"{n:3d} grousers, {label:<28s} v {st.velocity:.4f} m/s, sinkage {st.sinkage * 1e3:.1f} mm, slip {st.slip:.3f}")
+    _write(Path(args.out), rows)
+
+
+def compare(args: argparse.Namespace) -> None:
+    from intrusim.scenarios.mpm_locomotion import summarise_run
+
+    with Path(args.prediction).open(newline="") as f:
+        pred = [dict(r, lug_count=int(r["lug_count"]), velocity=float(r["velocity"]), sinkage=float(r["sinkage"]))
+                for r in csv.DictReader(f)]  # fmt: skip
+    rows = []
+    for run in map(Path, args.runs):
+        info_path = run / "locomotion.json"
+        if not info_path.exists():
+            continue
+        info = json.loads(info_path.read_text())
+        n = int(info["scenario"]["lug_count"])
+        st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
+        rows.append({"lug_count": n, "omega_rpm": round(st.omega * 60 / (2 * 3.141592653589793), 3), "model": "MPM",
+                     "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift, "run": str(run)})  # fmt: skip
+    if not rows:
+        raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
+    out = Path(args.out)
+    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "run"))
+    for r in sorted(rows, key=lambda r: r["lug_count"]):
+        print(f"{r['lug_count']:3d} grousers, MPM: v {r['velocity']:.4f} m/s, sinkage {r['sinkage'] * 1e3:.1f} mm (drift {r['drift']:.3f})")
+        for p in (p for p in pred if p["lug_count"] == r["lug_count"]):
+            print(f"      {p['model']:<28s} v {p['velocity']:.4f} ({p['velocity'] / r['velocity'] - 1:+.1%}), "
+                  f"sinkage {p['sinkage'] * 1e3:.1f} mm ({p['sinkage'] / r['sinkage'] - 1:+.1%})")  # fmt: skip
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    models = list(dict.fromkeys(p["model"] for p in pred))
+    for ax, key, unit, scale in ((axes[0], "velocity", "v (m/s)", 1.0), (axes[1], "sinkage", "sinkage (mm)", 1e3)):
+        for m in models:
+            pts = sorted((p["lug_count"], p[key] * scale) for p in pred if p["model"] == m)
+            ax.plot(*zip(*pts), "o-", label=m)
+        mpm = sorted((r["lug_count"], r[key] * scale) for r in rows)
+        ax.plot(*zip(*mpm), "ks", ms=8, label=f"MPM ({args.window[0]:g}-{args.window[1]:g} s)")
+        ax.set_xlabel("grousers")
+        ax.set_ylabel(unit)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Table S1 wheel with N grousers, {rows[0]['omega_rpm']:g} RPM: DRFT predictions (k_b fitted on N = 20) and MPM")
+    fig.tight_layout()
+    fig.savefig(out.with_suffix(".png"), dpi=120)
+    print(out.with_suffix(".csv"), out.with_suffix(".png"))
+
+
+def _write(path: Path, rows: list[dict], fields: tuple[str, ...] = FIELDS) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(fields), extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    p = sub.add_parser("predict")
+    p.add_argument("--calibration", required=True, help="an `intrusim calibrate` JSON with a fitted bulldozing k_b")
+    p.add_argument("--lug-counts", type=int, nargs="+", default=[10, 15, 20, 30])
+    p.add_argument("--rpm", type=float, default=30.0)
+    p.add_argument("--out", required=True)
+    c = sub.add_parser("compare")
+    c.add_argument("runs", nargs="+")
+    c.add_argument("--window", type=float, nargs=2, default=(2.0, 3.0), metavar=("T0", "T1"))
+    c.add_argument("--prediction", required=True)
+    c.add_argument("--out", required=True)
+    args = ap.parse_args()
+    predict(args) if args.cmd == "predict" else compare(args)
+
+
+if __name__ == "__main__":
+    main()
