@@ -8,11 +8,14 @@ hub, grouser size and inertias with N grousers at one omega; the MPM runs
     python examples/wheel_lug_count.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
         --out docs/figures/wheel_lugs_prediction.csv
     python examples/wheel_lug_count.py compare runs/lugs/* --window 2.0 3.0 \
-        --prediction docs/figures/wheel_lugs_prediction.csv --out docs/figures/wheel_lugs
+        --prediction docs/figures/wheel_lugs_prediction.csv --out docs/figures/wheel_lugs \
+        --history docs/figures/wheel_30rpm_start_band0.csv:grousered_wheel_30rpm_2.5mm_band0_1x0.4m_bed0.15m:20
 
 `predict` writes, for each N and model (the paper's DRFT; the paper's DRFT + bulldozing with the
 calibration's k_b), the steady v and sinkage with the MPM's 4 N push. `compare` averages each MPM
-run over the window (`summarise_run`), writes NAME.csv (MPM and prediction per N) and NAME.png.
+run over the window (`summarise_run`; --history: the 0.25 s windows a run_histories CSV kept of a
+run whose folder is gone, here the 20-grouser wheel in the same box), writes NAME.csv (MPM and
+prediction per N) and NAME.png.
 """
 
 from __future__ import annotations
@@ -69,6 +72,19 @@ def compare(args: argparse.Namespace) -> None:
         st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
         rows.append({"lug_count": n, "omega_rpm": round(st.omega * 60 / (2 * 3.141592653589793), 3), "model": "MPM",
                      "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift, "run": str(run)})  # fmt: skip
+    for item in args.history:  # a run whose folder is gone: its windows in a run_histories CSV
+        path, run_name, n = item.rsplit(":", 2)
+        with Path(path).open(newline="") as f:
+            win = [r for r in csv.DictReader(f) if r["run"] == run_name
+                   and float(r["t_start"]) >= args.window[0] - 1e-9 and float(r["t_end"]) <= args.window[1] + 1e-9]  # fmt: skip
+        if not win:
+            raise SystemExit(f"{path}: no window of {run_name} within {args.window}")
+        v = [float(r["velocity"]) for r in win]
+        half = len(v) // 2
+        rows.append({"lug_count": int(n), "omega_rpm": rows[0]["omega_rpm"] if rows else args.rpm, "model": "MPM",
+                     "velocity": sum(v) / len(v), "sinkage": sum(float(r["sinkage"]) for r in win) / len(win), "slip": "",
+                     "drift": abs(sum(v[half:]) / (len(v) - half) - sum(v[:half]) / max(half, 1)) / (sum(v) / len(v)) if half else 0.0,
+                     "run": f"{path}:{run_name}"})  # fmt: skip
     if not rows:
         raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
     out = Path(args.out)
@@ -115,6 +131,9 @@ def main() -> None:
     c.add_argument("runs", nargs="+")
     c.add_argument("--window", type=float, nargs=2, default=(2.0, 3.0), metavar=("T0", "T1"))
     c.add_argument("--prediction", required=True)
+    c.add_argument("--history", action="append", default=[], metavar="CSV:RUN:N",
+                   help="an MPM run of N grousers whose folder is gone, from the windows of a run_histories CSV (repeatable)")
+    c.add_argument("--rpm", type=float, default=30.0, help="omega of --history runs when no run folder is given")
     c.add_argument("--out", required=True)
     args = ap.parse_args()
     predict(args) if args.cmd == "predict" else compare(args)
