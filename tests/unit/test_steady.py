@@ -96,3 +96,13 @@ def test_forces_by_part_splits_every_element_once():
     assert np.allclose(parts["rim, front"], f[0]) and np.allclose(parts["grouser tips, front"], f[4] + f[5])
     assert np.allclose(parts["grouser tips, rear"], 0.0)
     assert np.allclose(sum(parts.values()), f.sum(axis=0))
+
+
+def test_window_drift_is_the_larger_change_between_the_halves():
+    from intrusim.analysis.steady import window_drift
+
+    v = [1.0, 1.0, 1.2, 1.2]  # mean 1.1, halves 1.0 and 1.2
+    sk = [0.040, 0.040, 0.041, 0.041]  # halves 1 mm apart
+    assert window_drift(v, sk, radius=0.1) == pytest.approx(0.2 / 1.1)
+    assert window_drift([1.0] * 4, sk, radius=0.001) == pytest.approx(1.0)  # the sinkage term wins
+    assert window_drift([0.3], [0.04], radius=0.1) == 0.0  # one sample: no halves

@@ -129,6 +129,20 @@ def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[
     return rows
 
 
+def window_drift(velocity: Any, sinkage: Any, radius: float) -> float:
+    """How far a steady-state window is from steady: the larger of the change of the mean velocity
+    between its two halves, relative to the window's mean velocity, and the change of the mean
+    sinkage, relative to the body's radius (0 for a window of one sample)."""
+    v, sk = np.asarray(velocity, float), np.asarray(sinkage, float)
+    half = len(v) // 2
+    if half == 0:
+        return 0.0
+    return max(
+        abs(v[half:].mean() - v[:half].mean()) / max(abs(float(v.mean())), 1e-12),
+        abs(sk[half:].mean() - sk[:half].mean()) / radius,
+    )
+
+
 def steady_state(
     traj: Trajectory, shape: Shape, revolutions: int, surface_z: float = 0.0
 ) -> SteadyState:
@@ -157,16 +171,9 @@ def steady_state(
         )
     sink = outline_sinkage(shape.polygon, traj.z, traj.theta, surface_z)
     v = traj.vx[sel]
-    half = len(v) // 2
     v_mean = float(v.mean())
     r = float(shape.radius)
-    drift = 0.0
-    if half > 0:
-        sk = sink[sel]
-        drift = max(
-            abs(v[half:].mean() - v[:half].mean()) / max(abs(v_mean), 1e-12),
-            abs(sk[half:].mean() - sk[:half].mean()) / r,
-        )
+    drift = window_drift(v, sink[sel], r)
     return SteadyState(
         omega=omega, velocity=v_mean, velocity_z=float(traj.vz[sel].mean()), sinkage=float(sink[sel].mean()),
         slip=1.0 - v_mean / (r * omega), velocity_std=float(v.std()), sinkage_std=float(sink[sel].std()),

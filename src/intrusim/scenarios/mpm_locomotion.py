@@ -31,7 +31,7 @@ from pydantic import Field
 
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
-from intrusim.analysis.steady import outline_sinkage
+from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
 from intrusim.mpm.io import atomic_write_bytes
 from intrusim.params import table_s1
@@ -383,9 +383,8 @@ def steady_from_series(
     omega = abs(float(series["omega"][-1]))
     sel = _window_mask(t, t_avg, omega, whole_revolutions)
     v, sk = series["vx"][sel], series["sinkage"][sel]
-    half = len(v) // 2
     v_mean = float(v.mean())
-    drift = max(abs(v[half:].mean() - v[:half].mean()) / max(abs(v_mean), 1e-12), abs(sk[half:].mean() - sk[:half].mean()) / radius) if half else 0.0
+    drift = window_drift(v, sk, radius)
     dh = np.array([d for t_d, d in drops if t_d > t_avg], float)
     dh_ok = dh[np.isfinite(dh)]
     return MPMSteadyState(
