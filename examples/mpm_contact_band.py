@@ -44,14 +44,14 @@ from pathlib import Path
 import numpy as np
 
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
+from intrusim.scenarios.locomotor import with_lug_count
 from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_mpm_steady, summarise_run, write_result
 
 
 def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
     if args.lug_count is not None:  # another wheel of the same hub, grousers and inertias
-        scenario = type(scenario).model_validate(
-            {**scenario.model_dump(), "lug_count": args.lug_count, "name": f"{scenario.name}_{args.lug_count}lugs"})
+        scenario = with_lug_count(scenario, args.lug_count)
     base = paper_settings("wheel")
     domain = tuple(args.domain) if args.domain else base.domain
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)

@@ -30,18 +30,17 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from intrusim.analysis.calibration import with_mpm_push, with_parameters  # noqa: E402
-from intrusim.analysis.steady import run_steady  # noqa: E402
+from intrusim.analysis.calibration import RPM, with_mpm_push, with_parameters  # noqa: E402
+from intrusim.analysis.steady import run_steady, window_drift  # noqa: E402
 from intrusim.scenarios import grousered_wheel_scenario  # noqa: E402
+from intrusim.scenarios.locomotor import with_lug_count  # noqa: E402
 
 FIELDS = ("lug_count", "omega_rpm", "model", "velocity", "sinkage", "slip")
 
 
 def wheel(lug_count: int, k_b: float):
     """The paper's DRFT wheel (rear half, lambda 1, the identity psi) with ``lug_count`` grousers, the 4 N push and k_b."""
-    base = with_mpm_push(grousered_wheel_scenario())
-    s = type(base).model_validate({**base.model_dump(), "lug_count": lug_count})
-    return with_parameters(s, {"bulldozing": k_b})
+    return with_parameters(with_lug_count(with_mpm_push(grousered_wheel_scenario()), lug_count), {"bulldozing": k_b})
 
 
 def predict(args: argparse.Namespace) -> None:
@@ -70,7 +69,7 @@ def compare(args: argparse.Namespace) -> None:
         info = json.loads(info_path.read_text())
         n = int(info["scenario"]["lug_count"])
         st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
-        rows.append({"lug_count": n, "omega_rpm": round(st.omega * 60 / (2 * 3.141592653589793), 3), "model": "MPM",
+        rows.append({"lug_count": n, "omega_rpm": round(st.omega / RPM, 3), "model": "MPM",
                      "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift, "run": str(run)})  # fmt: skip
     for item in args.history:  # a run whose folder is gone: its windows in a run_histories CSV
         path, run_name, n = item.rsplit(":", 2)
@@ -79,12 +78,10 @@ def compare(args: argparse.Namespace) -> None:
                    and float(r["t_start"]) >= args.window[0] - 1e-9 and float(r["t_end"]) <= args.window[1] + 1e-9]  # fmt: skip
         if not win:
             raise SystemExit(f"{path}: no window of {run_name} within {args.window}")
-        v = [float(r["velocity"]) for r in win]
-        half = len(v) // 2
+        v, sk = [float(r["velocity"]) for r in win], [float(r["sinkage"]) for r in win]  # equal windows
         rows.append({"lug_count": int(n), "omega_rpm": rows[0]["omega_rpm"] if rows else args.rpm, "model": "MPM",
-                     "velocity": sum(v) / len(v), "sinkage": sum(float(r["sinkage"]) for r in win) / len(win), "slip": "",
-                     "drift": abs(sum(v[half:]) / (len(v) - half) - sum(v[:half]) / max(half, 1)) / (sum(v) / len(v)) if half else 0.0,
-                     "run": f"{path}:{run_name}"})  # fmt: skip
+                     "velocity": sum(v) / len(v), "sinkage": sum(sk) / len(sk), "slip": "",
+                     "drift": window_drift(v, sk, grousered_wheel_scenario().radius), "run": f"{path}:{run_name}"})  # fmt: skip
     if not rows:
         raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
     out = Path(args.out)

@@ -91,3 +91,19 @@ def test_without_lugs_keeps_the_outer_radius():
     assert sides(smooth) < 0.1 * sides(wheel)
     with pytest.raises(InputError):
         without_lugs(wheel, stub=0.5)
+
+
+def test_with_lug_count_changes_only_the_lug_count_and_checks_the_fit():
+    from pydantic import ValidationError
+
+    from intrusim.geometry import TAG_LUG_TIP
+    from intrusim.scenarios.locomotor import with_lug_count
+
+    wheel = get_scenario("wheel")
+    thirty = with_lug_count(wheel, 30)
+    assert thirty.lug_count == 30 and thirty.name == "grousered_wheel_30lugs"
+    assert thirty.model_dump(exclude={"lug_count", "name"}) == wheel.model_dump(exclude={"lug_count", "name"})
+    tips = thirty.rft_shape().elements.tag == TAG_LUG_TIP
+    assert tips.sum() == 30 * (wheel.rft_shape().elements.tag == TAG_LUG_TIP).sum() // 20
+    with pytest.raises((ValidationError, InputError)):
+        with_lug_count(wheel, 200)  # 200 grousers of 6 mm do not fit on a 94 mm hub

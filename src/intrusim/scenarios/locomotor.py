@@ -172,6 +172,14 @@ def without_lugs(scenario: LocomotorScenario, stub: float = 0.0005) -> Locomotor
     )
 
 
+def with_lug_count(scenario: LocomotorScenario, lug_count: int) -> LocomotorScenario:
+    """The same body with ``lug_count`` lugs of the same size (hub, inertias and force model kept),
+    named ``NAME_Nlugs``; validated (the lugs must fit on the hub)."""
+    return type(scenario).model_validate(
+        {**scenario.model_dump(), "lug_count": lug_count, "name": f"{scenario.name}_{lug_count}lugs"}
+    )
+
+
 def small_wheel_scenario() -> LocomotorScenario:
     """Fig S1: the Table S1 wheel with every length (width included) halved; inertias x 1/8."""
     big = grousered_wheel_scenario()
