@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import json
+import math
 from pathlib import Path
 from typing import Any, Optional
 
@@ -275,19 +275,18 @@ def calibrate(
                         "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
     if loo is not None:
         meta["leave_one_out"] = loo.summary()
-    paths = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
-    for label, entry in json.loads(paths[-1].read_text())["checks"].items():
-        c = entry["calibrated"]
-        rows = ", ".join(f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}" for w, dv, ds in zip(c["omega_rpm"], c["rel_error_velocity"], c["rel_error_sinkage"]))
-        typer.echo(f"check {label} ({c['scenario']}, fitted values reused): {rows}; max |relative error| velocity "
-                   f"{_pct(c['max_abs_rel_error_velocity'], '')}, sinkage {_pct(c['max_abs_rel_error_sinkage'], '')}")  # fmt: skip
+    paths, check_cmps = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
+    for label, c in check_cmps.items():
+        rows = ", ".join(f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}" for w, dv, ds in zip(c.omega_rpm, c.rel_error_velocity, c.rel_error_sinkage))
+        typer.echo(f"check {label} ({c.name}, fitted values reused): {rows}; max |relative error| velocity "
+                   f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
         typer.echo(str(p))
 
 
-def _pct(x: float | None, sign: str = "+") -> str:
-    """A relative error as a percentage; None (a failed DRFT point in a report) as 'failed'."""
-    return "failed" if x is None else f"{x:{sign}.1%}"
+def _pct(x: float, sign: str = "+") -> str:
+    """A relative error as a percentage; a failed DRFT point (NaN, or an infinite maximum) as 'failed'."""
+    return f"{x:{sign}.1%}" if math.isfinite(x) else "failed"
 
 
 def _echo_comparison(c: Any) -> None:

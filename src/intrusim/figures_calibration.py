@@ -80,8 +80,10 @@ def write_calibration(
     checks: Sequence[Check] = (),
     kind: str = "drft",
     meta: dict[str, Any] | None = None,
-) -> list[Path]:
+) -> tuple[list[Path], dict[str, Comparison]]:
     """Write ``name``.png / .csv / _vs_mpm.csv / .json under ``out`` (see module docstring).
+
+    Returns the paths written and, by label, each check's calibrated DRFT against its MPM.
 
     Parameters
     ----------
@@ -97,6 +99,7 @@ def write_calibration(
         cases.append((s0, with_parameters(s0, result.values), chk.reference, f" ({chk.label})"))
     curves: list[tuple[str, LocomotorScenario, SweepResult]] = []
     report: dict[str, Any] = {"calibration": result.summary(), "verdict": _verdict(result.comparison), "checks": {}}
+    check_cmps: dict[str, Comparison] = {}
     for i, (s0, s1, ref, tag) in enumerate(cases):
         before, after = _curve(s0, ref, kind), _curve(s1, ref, kind)
         curves += [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
@@ -104,7 +107,7 @@ def write_calibration(
         if i == 0:
             report.update(entry)
         else:
-            cal_cmp = comparison(s1.name, ref, after)
+            cal_cmp = check_cmps[checks[i - 1].label] = comparison(s1.name, ref, after)
             report["checks"][checks[i - 1].label] = {"calibrated": cal_cmp.summary(), "verdict": _verdict(cal_cmp), **entry}
     report.update(meta or {})
     title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
@@ -112,4 +115,4 @@ def write_calibration(
     paths = _write(out, name, curves, title)
     paths.append(out / f"{name}.json")
     atomic_write_bytes(paths[-1], json.dumps(report, indent=1).encode())
-    return paths
+    return paths, check_cmps
