@@ -296,9 +296,8 @@ class Solver:
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
         self._step_mark = int(meta["step_mark"])
+        self._set_body_states(meta["bodies"])
         for k, body in enumerate(self.intruders):
-            for name, val in meta["bodies"][k].items():
-                setattr(body.state, name, val)
             # a checkpoint from before the front / rear split has no part from ahead: it restarts at 0
             ahead = meta.get("impulse_ahead", [None] * len(self.intruders))[k]
             body.contact.write_impulse(meta["impulse"][k], ahead)
@@ -310,10 +309,14 @@ class Solver:
         """Carry on another run's state (e.g. its points split for finer cells): the clock at
         ``step_count`` steps of this solver's dt, the bodies in ``bodies`` (``state.as_dict()``
         of each), and the force averages of the next rows starting here."""
-        if len(bodies) != len(self.intruders):
-            raise ValueError(f"{len(bodies)} body states for {len(self.intruders)} bodies")
+        self._set_body_states(bodies)
         self.step_count = int(step_count)
         self._step_mark = self.step_count
+
+    def _set_body_states(self, bodies: Sequence[dict[str, float]]) -> None:
+        """Each intruder's state from a ``state.as_dict()`` (a checkpoint's "bodies")."""
+        if len(bodies) != len(self.intruders):
+            raise ValueError(f"{len(bodies)} body states for {len(self.intruders)} bodies")
         for body, state in zip(self.intruders, bodies):
             for name, val in state.items():
                 setattr(body.state, name, val)
