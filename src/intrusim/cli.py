@@ -240,24 +240,31 @@ def calibrate(
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
         if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
             raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
-        start = with_rft_table(_locomotor(scenario), rft_coefficients)
-        if structural is not None:
-            start = start.model_copy(update=dict(force_model=start.force_model.model_validate({**start.force_model.model_dump(), "structural": structural})))
-        start = with_mpm_push(start) if mpm_push else start
+        def prepared(name: str):
+            """A scenario with this command's choices: the RFT table, the structural correction, the push."""
+            s = with_rft_table(_locomotor(name), rft_coefficients)
+            if structural is not None:
+                s = s.model_copy(update=dict(force_model=s.force_model.model_validate({**s.force_model.model_dump(), "structural": structural})))
+            return with_mpm_push(s) if mpm_push else s
+
+        start = prepared(scenario)
         ref = load_reference(mpm, start.name, settled_only=settled_only)
+        psi_values: dict[str, float] = {}  # set from the calibrated scenario's rear drop, reused by the checks
         if psi_from_dh != "none":
             psi = psi_from_surface_drop(start, ref)
             if psi is None:
                 raise InputError(f"{mpm}: fewer than 2 runs with a measured rear surface drop")
             slope, offset = (psi["linear_slope"], 0.0) if psi_from_dh == "linear" else (psi["affine_slope"], psi["affine_offset"])
-            start = with_parameters(start, {"psi": slope, "psi_offset": offset})
+            psi_values = {"psi": slope, "psi_offset": offset}
+            start = with_parameters(start, psi_values)
         checks = []
         for item in check:
             label, sep, path = item.partition("=")
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
-            s = with_rft_table(_locomotor(label.strip()), rft_coefficients)
-            checks.append(Check(label.strip(), with_mpm_push(s) if mpm_push else s, load_reference(path.strip(), s.name)))
+            s = prepared(label.strip())
+            s = with_parameters(s, psi_values) if psi_values else s
+            checks.append(Check(label.strip(), s, load_reference(path.strip(), s.name)))
         res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
         typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
         _echo_comparison(res.comparison)

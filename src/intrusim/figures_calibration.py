@@ -36,8 +36,9 @@ TARGET = 0.15  # the mission's target: DRFT within 15 % of MPM at every omega
 
 @dataclass(frozen=True)
 class Check:
-    """A transfer check: ``scenario`` (its own geometry, inertias and push; the calibrated
-    scenario's DRFT settings are put in) against its MPM ``reference``."""
+    """A transfer check: ``scenario`` (its own geometry, inertias, push and force model: a
+    runner keeps its lambda and its structural correction) against its MPM ``reference``; the
+    calibration's fitted values are put in, and nothing else."""
 
     label: str
     scenario: LocomotorScenario
@@ -95,8 +96,7 @@ def write_calibration(
     """
     cases = [(start, with_parameters(start, result.values), reference, "")]
     for chk in checks:
-        s0 = chk.scenario.model_copy(update=dict(force_model=start.force_model))
-        cases.append((s0, with_parameters(s0, result.values), chk.reference, f" ({chk.label})"))
+        cases.append((chk.scenario, with_parameters(chk.scenario, result.values), chk.reference, f" ({chk.label})"))
     curves: list[tuple[str, LocomotorScenario, SweepResult]] = []
     report: dict[str, Any] = {"calibration": result.summary(), "verdict": _verdict(result.comparison), "checks": {}}
     check_cmps: dict[str, Comparison] = {}

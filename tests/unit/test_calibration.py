@@ -242,6 +242,23 @@ def test_cli_calibrate_writes_json_csv_png(tmp_path):
     assert max(abs(float(row["rel_diff_velocity"])) for row in cal) < 0.005
 
 
+def test_cli_calibrate_check_keeps_the_checked_scenarios_own_force_model(tmp_path):
+    """A runner checked against a wheel's calibration keeps its lambda 4 and no structural
+    correction; only the fitted values are put in (its MPM here: its own DRFT at the fitted xi)."""
+    from intrusim.scenarios import four_flap_runner_scenario
+
+    ref = drft_steady_states(with_parameters(with_mpm_push(_wheel("wheel-rear-half")), {"xi": 0.8}), [20.0, 80.0])
+    runner = with_mpm_push(four_flap_runner_scenario())
+    assert runner.force_model.lam == 4.0 and runner.force_model.structural == "none"
+    runner_ref = drft_steady_states(with_parameters(runner, {"xi": 0.8}), [60.0, 150.0])
+    args = ["calibrate", "wheel", "--mpm", str(ref.to_csv(tmp_path / "wheel.csv")), "--params", "xi", "--starts", "1",
+            "--check", f"runner={runner_ref.to_csv(tmp_path / 'runner.csv')}", "--out", str(tmp_path), "--name", "cal"]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    check = json.loads((tmp_path / "cal.json").read_text())["checks"]["runner"]["calibrated"]
+    assert check["max_abs_rel_error_velocity"] < 0.005 and check["max_abs_rel_error_sinkage"] < 0.005
+
+
 def test_cli_calibrate_leave_one_out(tmp_path):
     s = with_mpm_push(_wheel("wheel-rear-half"))
     ref = drft_steady_states(with_parameters(s, {"bulldozing": 2.0}), [15.0, 30.0, 50.0]).to_csv(tmp_path / "wheel.csv")
