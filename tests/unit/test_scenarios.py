@@ -1,5 +1,7 @@
 """Scenario configs: Table S1 defaults, TOML loading, validation, small-wheel scaling."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -39,6 +41,22 @@ def test_toml_partial_override(tmp_path):
     s = load_scenario(p)
     assert s.name == "heavy" and s.mass_z == 12.0 and s.force_model.lam == 2.0 and s.run.average_revolutions == 1
     assert s.force_model.xi == 0.35 and s.mass_x == 23.0  # untouched defaults kept
+
+
+def test_toml_table_path_is_relative_to_the_toml(tmp_path, monkeypatch):
+    """force_model.rft_coefficients in a TOML is read from the TOML's folder, whatever the working folder."""
+    (tmp_path / "cases" / "tables").mkdir(parents=True)
+    src = Path(__file__).parents[2] / "src" / "intrusim" / "data" / "rft_li2013.toml"
+    (tmp_path / "cases" / "tables" / "t.toml").write_bytes(src.read_bytes())
+    p = tmp_path / "cases" / "w.toml"
+    p.write_text('body = "wheel"\n[force_model]\nrft_coefficients = "tables/t.toml"\n')
+    monkeypatch.chdir(tmp_path)  # not the TOML's folder
+    s = load_scenario("cases/w.toml")
+    assert s.force_model.rft_coefficients == str(Path("cases/tables/t.toml"))
+    s.build_model("rft")  # reads the table: found from tmp_path
+    absolute = tmp_path / "cases" / "tables" / "t.toml"
+    p.write_text(f'body = "wheel"\n[force_model]\nrft_coefficients = "{absolute.as_posix()}"\n')
+    assert load_scenario(p).force_model.rft_coefficients == absolute.as_posix()
 
 
 @pytest.mark.parametrize(

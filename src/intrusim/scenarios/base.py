@@ -8,6 +8,7 @@ single source of truth for the paper's numbers.
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from pathlib import Path
 from typing import Any, Literal
@@ -40,7 +41,7 @@ class Config(BaseModel):
                 data = tomllib.load(f)
             except tomllib.TOMLDecodeError as err:
                 raise InputError(f"{p}: invalid TOML ({err})") from None
-        return cls.from_dict(data, source=str(p))
+        return cls.from_dict(_paths_relative_to(data, p.parent), source=str(p))
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "config") -> "Config":
@@ -48,6 +49,16 @@ class Config(BaseModel):
             return cls.model_validate(data)
         except ValidationError as err:
             raise InputError(f"{source}: invalid {cls.__name__}:\n{err}") from None
+
+
+def _paths_relative_to(data: dict[str, Any], folder: Path) -> dict[str, Any]:
+    """``data`` with its file paths (``force_model.rft_coefficients``) read relative to ``folder``
+    (the TOML's own), as a file's paths are; absolute paths are kept."""
+    fm = data.get("force_model")
+    path = fm.get("rft_coefficients") if isinstance(fm, dict) else None
+    if not isinstance(path, str) or Path(path).is_absolute():
+        return data
+    return {**data, "force_model": {**fm, "rft_coefficients": os.path.normpath(folder / path)}}
 
 
 class ForceModelConfig(Config):
