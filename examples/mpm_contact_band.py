@@ -13,6 +13,8 @@ law with a chosen band.
         --start-depth-mm 46 --t-max 4.0 --out runs/embedded  # starts embedded, ~23 min on 1 thread
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
         --lug-count 30 --t-max 3.0 --out runs/lugs   # a 30-grouser wheel, ~30 min on 1 thread
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
+        --mass-z 9.45 --t-max 3.0 --out runs/load   # the wheel 1.5x as heavy
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -52,6 +54,10 @@ def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
     if args.lug_count is not None:  # another wheel of the same hub, grousers and inertias
         scenario = with_lug_count(scenario, args.lug_count)
+    if args.mass_z is not None:  # another load: the vertical mass (weight m_z g); m_x and the push kept
+        if not args.mass_z > 0:
+            raise SystemExit(f"--mass-z must be > 0, got {args.mass_z}")
+        scenario = scenario.model_copy(update=dict(mass_z=args.mass_z))
     base = paper_settings("wheel")
     domain = tuple(args.domain) if args.domain else base.domain
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
@@ -64,6 +70,7 @@ def run(args: argparse.Namespace) -> None:
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
     tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
+    tag += "" if args.mass_z is None else f"_mz{args.mass_z:g}kg"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -207,6 +214,8 @@ r.add_argument("--start-depth-mm", type=float, default=0.0, metavar="MM",
                help="start with the wheel's lowest point MM below the surface, embedded (default: resting on it)")
 r.add_argument("--lug-count", type=int, default=None, metavar="N",
                help="N grousers instead of Table S1's (same size, hub and inertias): a new wheel for DRFT to predict")
+r.add_argument("--mass-z", type=float, default=None, metavar="KG",
+               help="vertical mass of the wheel, kg (its weight m_z g; default: the scenario's, 6.3 kg for Table S1)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
