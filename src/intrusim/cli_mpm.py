@@ -16,12 +16,15 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
           t_max: float | None = None):
-    from intrusim.scenarios import LOCOMOTORS
+    from intrusim.scenarios import LOCOMOTORS, LocomotorScenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
-    if scenario not in SCENARIOS:
-        raise InputError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
-    sc = LOCOMOTORS[scenario]()
+    if scenario in SCENARIOS:
+        sc = LOCOMOTORS[scenario]()
+    elif scenario.endswith(".toml"):  # the user's own wheel or runner: the same file as for rft / drft
+        sc = LocomotorScenario.from_toml(scenario)
+    else:
+        raise InputError(f"scenario must be one of {SCENARIOS} or a scenario .toml file, got {scenario!r}")
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
     settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
     if length is not None:  # same cells, a shorter or longer bed
@@ -54,7 +57,7 @@ def _rpms(text: str) -> list[float]:
 
 @mpm_app.command("steady")
 def steady(
-    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}."),
+    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (forward rolling)."),
     quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
     out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
@@ -97,7 +100,7 @@ def steady(
 
 @mpm_app.command("sweep")
 def sweep(
-    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}."),
+    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."),
     omega_rpm: str = typer.Option("10,20,30,40,50,60,70,80,90", help="Comma-separated RPM list."),
     quick: bool = typer.Option(False, help="Coarse grid, short runs."),
     out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),

@@ -168,3 +168,19 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     assert r.exit_code == 2 and "before the averaging window starts" in r.output
     r = runner.invoke(app, ["mpm", "collect", str(tmp_path / "empty")])
     assert r.exit_code == 2 and "needs finished run folders" in r.output
+
+
+def test_a_scenario_toml_runs_in_mpm_as_in_drft(tmp_path):
+    """`mpm steady --scenario FILE.toml` runs the user's own wheel (here half the weight), the file
+    `intrusim steady` takes; a missing file is refused before any compute."""
+    toml = tmp_path / "light.toml"
+    toml.write_text('body = "wheel"\nname = "light_wheel"\nmass_z = 3.15\n')
+    r = runner.invoke(app, ["mpm", "steady", "--scenario", str(toml), "--quick", "--omega-rpm", "30",
+                            "--out", str(tmp_path / "runs"), "--threads", "1"])
+    assert r.exit_code == 0, r.output
+    info = json.loads((tmp_path / "runs" / "light_wheel_30rpm" / "locomotion.json").read_text())
+    assert info["scenario"]["mass_z"] == 3.15 and info["body"] == "wheel"
+    r = runner.invoke(app, ["mpm", "steady", "--scenario", str(tmp_path / "missing.toml"), "--quick"])
+    assert r.exit_code == 2 and "not found" in r.output
+    r = runner.invoke(app, ["mpm", "steady", "--scenario", "tractor", "--quick"])
+    assert r.exit_code == 2 and "scenario .toml file" in r.output
