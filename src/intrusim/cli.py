@@ -215,7 +215,7 @@ def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
     mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
     params: str = typer.Option("xi,psi", help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper)."),
-    structural: Optional[str] = typer.Option(None, help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none."),
+    structural: Optional[str] = typer.Option(None, help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none; also for the --check scenarios that have one (a runner keeps none)."),
     mpm_push: bool = typer.Option(True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."),
     psi_from_dh: str = typer.Option("none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."),
     check: list[str] = typer.Option([], help="Transfer check NAME=CSV (a scenario and its MPM sweep), fitted values reused; repeatable."),
@@ -240,10 +240,11 @@ def calibrate(
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
         if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
             raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
-        def prepared(name: str):
-            """A scenario with this command's choices: the RFT table, the structural correction, the push."""
+        def prepared(name: str, check: bool = False):
+            """A scenario with this command's choices: the RFT table, the push, and --structural
+            (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
             s = with_rft_table(_locomotor(name), rft_coefficients)
-            if structural is not None:
+            if structural is not None and not (check and s.force_model.structural == "none"):
                 s = s.model_copy(update=dict(force_model=s.force_model.model_validate({**s.force_model.model_dump(), "structural": structural})))
             return with_mpm_push(s) if mpm_push else s
 
@@ -262,7 +263,7 @@ def calibrate(
             label, sep, path = item.partition("=")
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
-            s = prepared(label.strip())
+            s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
             checks.append(Check(label.strip(), s, load_reference(path.strip(), s.name)))
         res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)

@@ -252,6 +252,7 @@ def test_cli_calibrate_check_keeps_the_checked_scenarios_own_force_model(tmp_pat
     assert runner.force_model.lam == 4.0 and runner.force_model.structural == "none"
     runner_ref = drft_steady_states(with_parameters(runner, {"xi": 0.8}), [60.0, 150.0])
     args = ["calibrate", "wheel", "--mpm", str(ref.to_csv(tmp_path / "wheel.csv")), "--params", "xi", "--starts", "1",
+            "--structural", "wheel-rear-half",  # the wheel's own, named: not put on the runner
             "--check", f"runner={runner_ref.to_csv(tmp_path / 'runner.csv')}", "--out", str(tmp_path), "--name", "cal"]  # fmt: skip
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
