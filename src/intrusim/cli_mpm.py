@@ -16,15 +16,10 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
           t_max: float | None = None):
-    from intrusim.scenarios import LOCOMOTORS, LocomotorScenario
+    from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
-    if scenario in SCENARIOS:
-        sc = LOCOMOTORS[scenario]()
-    elif scenario.endswith(".toml"):  # the user's own wheel or runner: the same file as for rft / drft
-        sc = LocomotorScenario.from_toml(scenario)
-    else:
-        raise InputError(f"scenario must be one of {SCENARIOS} or a scenario .toml file, got {scenario!r}")
+    sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
     settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
     if length is not None:  # same cells, a shorter or longer bed

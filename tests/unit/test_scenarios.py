@@ -1,5 +1,6 @@
 """Scenario configs: Table S1 defaults, TOML loading, validation, small-wheel scaling."""
 
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,7 @@ def test_toml_partial_override(tmp_path):
 def test_toml_table_path_is_relative_to_the_toml(tmp_path, monkeypatch):
     """force_model.rft_coefficients in a TOML is read from the TOML's folder, whatever the working folder."""
     (tmp_path / "cases" / "tables").mkdir(parents=True)
-    src = Path(__file__).parents[2] / "src" / "intrusim" / "data" / "rft_li2013.toml"
+    src = resources.files("intrusim.data") / "rft_li2013.toml"  # the generic table, copied where the TOML points
     (tmp_path / "cases" / "tables" / "t.toml").write_bytes(src.read_bytes())
     p = tmp_path / "cases" / "w.toml"
     p.write_text('body = "wheel"\n[force_model]\nrft_coefficients = "tables/t.toml"\n')
