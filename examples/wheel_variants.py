@@ -105,7 +105,8 @@ def compare(args: argparse.Namespace) -> None:
     if by_load:  # the predictions of the MPM runs' grouser count, else of their loads
         pred = [p for p in pred if p["lug_count"] == rows[0]["lug_count"]]
     else:
-        pred = [p for p in pred if round(p["mass_z"], 6) in {round(r["mass_z"], 6) for r in rows}]
+        masses = {_key(r)[1] for r in rows}
+        pred = [p for p in pred if _key(p)[1] in masses]
     x_of = (lambda r: r["mass_z"] * GRAVITY) if by_load else (lambda r: r["lug_count"])
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     models = list(dict.fromkeys(p["model"] for p in pred))
