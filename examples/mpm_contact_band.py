@@ -44,20 +44,22 @@ import json
 from pathlib import Path
 
 import numpy as np
+from pydantic import ValidationError
 
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
-from intrusim.scenarios.locomotor import with_lug_count
+from intrusim.scenarios.locomotor import with_lug_count, with_mass_z
 from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_mpm_steady, summarise_run, write_result
 
 
 def run(args: argparse.Namespace) -> None:
     scenario = small_wheel_scenario() if args.small else grousered_wheel_scenario()
-    if args.lug_count is not None:  # another wheel of the same hub, grousers and inertias
-        scenario = with_lug_count(scenario, args.lug_count)
-    if args.mass_z is not None:  # another load: the vertical mass (weight m_z g); m_x and the push kept
-        if not args.mass_z > 0:
-            raise SystemExit(f"--mass-z must be > 0, got {args.mass_z}")
-        scenario = scenario.model_copy(update=dict(mass_z=args.mass_z))
+    try:
+        if args.lug_count is not None:  # another wheel of the same hub, grousers and inertias
+            scenario = with_lug_count(scenario, args.lug_count)
+        if args.mass_z is not None:  # another load: the vertical mass (weight m_z g); m_x and the push kept
+            scenario = with_mass_z(scenario, args.mass_z)
+    except ValidationError as e:
+        raise SystemExit(f"bad wheel: {e}") from None
     base = paper_settings("wheel")
     domain = tuple(args.domain) if args.domain else base.domain
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)

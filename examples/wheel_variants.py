@@ -34,12 +34,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from pydantic import ValidationError  # noqa: E402
 
 from intrusim.analysis.calibration import RPM, with_mpm_push, with_parameters  # noqa: E402
 from intrusim.params import GRAVITY  # noqa: E402
 from intrusim.analysis.steady import run_steady, window_drift  # noqa: E402
 from intrusim.scenarios import grousered_wheel_scenario  # noqa: E402
-from intrusim.scenarios.locomotor import with_lug_count  # noqa: E402
+from intrusim.scenarios.locomotor import with_lug_count, with_mass_z  # noqa: E402
 
 FIELDS = ("lug_count", "mass_z", "omega_rpm", "model", "velocity", "sinkage", "slip")
 TABLE_S1_MASS_Z = grousered_wheel_scenario().mass_z  # kg, the wheel k_b was fitted on
@@ -48,17 +49,22 @@ TABLE_S1_MASS_Z = grousered_wheel_scenario().mass_z  # kg, the wheel k_b was fit
 def wheel(lug_count: int, k_b: float, mass_z: float = TABLE_S1_MASS_Z):
     """The paper's DRFT wheel (rear half, lambda 1, the identity psi) with ``lug_count`` grousers,
     vertical mass ``mass_z`` (kg), the 4 N push and k_b."""
-    s = with_lug_count(with_mpm_push(grousered_wheel_scenario()), lug_count).model_copy(update=dict(mass_z=mass_z))
+    s = with_mass_z(with_lug_count(with_mpm_push(grousered_wheel_scenario()), lug_count), mass_z)
     return with_parameters(s, {"bulldozing": k_b})
 
 
 def predict(args: argparse.Namespace) -> None:
     k_b = float(json.loads(Path(args.calibration).read_text())["calibration"]["values"]["bulldozing"])
+    models = (("DRFT (paper)", 0.0), (f"DRFT + bulldozing (k_b {k_b:.3g})", k_b))
+    try:  # every variant validated (lugs fit, mass_z > 0) before the first run
+        variants = {(n, mz, k): wheel(n, k, mz) for n in args.lug_counts for mz in args.mass_z for _, k in models}
+    except ValidationError as e:
+        raise SystemExit(f"bad variant: {e}") from None
     rows = []
     for n in args.lug_counts:
         for mz in args.mass_z:
-            for label, k in (("DRFT (paper)", 0.0), (f"DRFT + bulldozing (k_b {k_b:.3g})", k_b)):
-                st = run_steady(wheel(n, k, mz), "drft", args.rpm)
+            for label, k in models:
+                st = run_steady(variants[n, mz, k], "drft", args.rpm)
                 rows.append({"lug_count": n, "mass_z": mz, "omega_rpm": args.rpm, "model": label, "velocity": st.velocity,
                              "sinkage": st.sinkage, "slip": st.slip})  # fmt: skip
                 print(f"{_variant(n, mz)}, {label:<28s} v {st.velocity:.4f} m/s, sinkage {st.sinkage * 1e3:.1f} mm, slip {st.slip:.3f}")

@@ -202,12 +202,6 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
     return moved
 
 
-def _locomotor(name: str) -> Any:
-    """A shipped locomotor ('small_wheel' spelt either way) or a scenario .toml file."""
-    from intrusim.scenarios import LOCOMOTORS, load_scenario
-
-    alias = name.replace("_", "-")
-    return load_scenario(alias if alias in LOCOMOTORS else name)
 
 
 @app.command()
@@ -233,6 +227,7 @@ def calibrate(
     from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.analysis.calibration import load_reference, with_mpm_push, with_parameters
     from intrusim.figures_calibration import Check, psi_from_surface_drop, write_calibration
+    from intrusim.scenarios import load_scenario
 
     try:
         names = [p.strip() for p in params.split(",") if p.strip()]
@@ -243,7 +238,7 @@ def calibrate(
         def prepared(name: str, check: bool = False):
             """A scenario with this command's choices: the RFT table, the push, and --structural
             (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
-            s = with_rft_table(_locomotor(name), rft_coefficients)
+            s = with_rft_table(load_scenario(name), rft_coefficients)
             if structural is not None and not (check and s.force_model.structural == "none"):
                 s = s.model_copy(update=dict(force_model=s.force_model.model_validate({**s.force_model.model_dump(), "structural": structural})))
             return with_mpm_push(s) if mpm_push else s

@@ -126,3 +126,24 @@ def test_with_lug_count_changes_only_the_lug_count_and_checks_the_fit():
     assert tips.sum() == 30 * (wheel.rft_shape().elements.tag == TAG_LUG_TIP).sum() // 20
     with pytest.raises((ValidationError, InputError)):
         with_lug_count(wheel, 200)  # 200 grousers of 6 mm do not fit on a 94 mm hub
+
+
+def test_with_mass_z_changes_only_the_load_and_refuses_a_non_positive_mass():
+    from pydantic import ValidationError
+
+    from intrusim.scenarios.locomotor import with_mass_z
+
+    wheel = get_scenario("wheel")
+    light = with_mass_z(wheel, 3.15)
+    assert light.mass_z == 3.15 and light.name == wheel.name  # the same body: run folders keep their names
+    assert light.model_dump(exclude={"mass_z"}) == wheel.model_dump(exclude={"mass_z"})
+    assert light.rigid_body().weight == pytest.approx(3.15 * wheel.gravity)
+    for bad in (0.0, -1.0):
+        with pytest.raises((ValidationError, InputError)):
+            with_mass_z(wheel, bad)
+
+
+def test_load_scenario_takes_the_small_wheel_spelt_either_way():
+    assert load_scenario("small_wheel") == load_scenario("small-wheel") == get_scenario("small-wheel")
+    with pytest.raises(InputError, match="small-wheel"):
+        load_scenario("smallwheel")

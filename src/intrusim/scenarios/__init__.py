@@ -35,10 +35,11 @@ def get_scenario(name: str) -> LocomotorScenario | PlateScenario:
 
 
 def load_scenario(path_or_name: str | Path) -> LocomotorScenario:
-    """A locomotor scenario from a shipped name or a TOML file."""
+    """A locomotor scenario from a shipped name (``small_wheel`` spelt either way) or a TOML file."""
     s = str(path_or_name)
-    if s in LOCOMOTORS:
-        return LOCOMOTORS[s]()
+    name = s.replace("_", "-")
+    if name in LOCOMOTORS:
+        return LOCOMOTORS[name]()
     if s.endswith(".toml") or Path(s).exists():
         return LocomotorScenario.from_toml(s)  # type: ignore[return-value]
     raise InputError(f"scenario must be one of {sorted(LOCOMOTORS)} or a .toml file, got {s!r}")

@@ -180,6 +180,13 @@ def with_lug_count(scenario: LocomotorScenario, lug_count: int) -> LocomotorScen
     )
 
 
+def with_mass_z(scenario: LocomotorScenario, mass_z: float) -> LocomotorScenario:
+    """The same body under another load: vertical inertia ``mass_z`` (kg; weight mass_z * g), with
+    the name, the horizontal inertia, the push and the force model kept (the body is the same, so
+    run folders keep their names; callers tag the load); validated (mass_z > 0)."""
+    return type(scenario).model_validate({**scenario.model_dump(), "mass_z": mass_z})
+
+
 def small_wheel_scenario() -> LocomotorScenario:
     """Fig S1: the Table S1 wheel with every length (width included) halved; inertias x 1/8."""
     big = grousered_wheel_scenario()
