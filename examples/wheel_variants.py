@@ -19,7 +19,8 @@ against the prediction.
 bulldozing with the calibration's k_b), the steady v and sinkage with the MPM's 4 N push. `compare`
 averages each MPM run over the window (`summarise_run`; --history: the 0.25 s windows a
 run_histories CSV kept of a run whose folder is gone, here the 20-grouser wheel in the same box),
-writes NAME.csv (MPM and prediction per variant) and NAME.png (against N, or against the weight
+writes NAME.csv (MPM and prediction per variant; for the MPM runs also the rear surface drop dh
+over the window, from the run's own measurements) and NAME.png (against N, or against the weight
 when the runs differ only in load).
 """
 
@@ -86,7 +87,8 @@ def compare(args: argparse.Namespace) -> None:
         n, mz = int(info["scenario"]["lug_count"]), float(info["scenario"]["mass_z"])
         st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
         rows.append({"lug_count": n, "mass_z": mz, "omega_rpm": round(st.omega / RPM, 3), "model": "MPM",
-                     "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift, "run": str(run)})  # fmt: skip
+                     "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift,
+                     "surface_drop": st.surface_drop, "run": str(run)})  # fmt: skip
     for item in args.history:  # a run whose folder is gone: its windows in a run_histories CSV
         path, run_name, n = item.rsplit(":", 2)
         with Path(path).open(newline="") as f:
@@ -101,7 +103,7 @@ def compare(args: argparse.Namespace) -> None:
     if not rows:
         raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
     out = Path(args.out)
-    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "run"))
+    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "surface_drop", "run"))
     for r in sorted(rows, key=lambda r: (r["lug_count"], r["mass_z"])):
         print(f"{_variant(r['lug_count'], r['mass_z'])}, MPM: v {r['velocity']:.4f} m/s, sinkage {r['sinkage'] * 1e3:.1f} mm (drift {r['drift']:.3f})")
         for p in (p for p in pred if _key(p) == _key(r)):
