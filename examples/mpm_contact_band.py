@@ -15,6 +15,8 @@ law with a chosen band.
         --lug-count 30 --t-max 3.0 --out runs/lugs   # a 30-grouser wheel, ~30 min on 1 thread
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
         --mass-z 9.45 --t-max 3.0 --out runs/load   # the wheel 1.5x as heavy
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
+        --push 0 --t-max 3.0 --out runs/push   # no forward push (Table S1's MPM runs: 4 N)
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -69,10 +71,13 @@ def run(args: argparse.Namespace) -> None:
         settings = settings.model_copy(update=dict(bed_depth=args.bed_depth))
     if args.start_depth_mm:
         settings = settings.model_copy(update=dict(start_depth=1e-3 * args.start_depth_mm))
+    if args.push is not None:  # another constant forward push (Table S1: 4 N; < 0: a drawbar load)
+        settings = settings.model_copy(update=dict(forward_force=args.push))
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
     tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
     tag += "" if args.mass_z is None else f"_mz{args.mass_z:g}kg"
+    tag += "" if args.push is None else f"_push{args.push:g}N"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -218,6 +223,8 @@ r.add_argument("--lug-count", type=int, default=None, metavar="N",
                help="N grousers instead of Table S1's (same size, hub and inertias): a new wheel for DRFT to predict")
 r.add_argument("--mass-z", type=float, default=None, metavar="KG",
                help="vertical mass of the wheel, kg (its weight m_z g; default: the scenario's, 6.3 kg for Table S1)")
+r.add_argument("--push", type=float, default=None, metavar="N",
+               help="constant forward push on the wheel, N (default: Table S1's 4 N scaled by m_x; < 0 pulls back)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
