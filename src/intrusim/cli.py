@@ -202,8 +202,6 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
     return moved
 
 
-
-
 @app.command()
 def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
