@@ -37,7 +37,7 @@ from intrusim.params import GRAVITY  # noqa: E402
 from intrusim.scenarios import LOCOMOTORS  # noqa: E402
 
 RPM = 2.0 * math.pi / 60.0
-FIELDS = ("source", "label", "omega_rpm", "radius", "velocity", "slip_speed", "x", "dh", "dh_identity", "dh_slip_law")
+FIELDS = ("source", "label", "fit", "omega_rpm", "radius", "velocity", "slip_speed", "x", "dh", "dh_identity", "dh_slip_law")
 FAILED_BELOW = -5e-3  # m: a rear drop this far above the surface is a failed measurement
 RADIUS = {f().name: f().radius for f in LOCOMOTORS.values()}  # scenario name -> outer radius, m
 
@@ -52,7 +52,7 @@ def _rows(path: Path, kind: str) -> list[dict]:
             raise SystemExit(f"{path}: no shipped scenario named {name!r} (known: {sorted(RADIUS)})")
         for r in table:
             if r.get("ok", "True") == "True":
-                out.append({"source": f"{name}: omega sweep", "label": f"{float(r['omega_rpm']):g} RPM", "radius": RADIUS[name],
+                out.append({"source": f"{name}: omega sweep ({path.parent.name})", "label": f"{float(r['omega_rpm']):g} RPM", "radius": RADIUS[name],
                             "omega_rpm": float(r["omega_rpm"]), "velocity": float(r["velocity"]), "dh": float(r["surface_drop"] or "nan")})  # fmt: skip
     else:  # a wheel_variants.py compare CSV: its MPM rows
         for r in table:
@@ -72,10 +72,11 @@ def _rows(path: Path, kind: str) -> list[dict]:
 def analyse(sweeps: list[Path], variants: list[Path]) -> tuple[list[dict], list[dict], float]:
     """Runs kept (each with both laws' dh), runs whose drop measurement failed, and tau (s)
     fitted on the first sweep's runs: dh = tau v_s by least squares through the origin."""
-    rows = [r for path in sweeps for r in _rows(path, "sweep")] + [r for path in variants for r in _rows(path, "variants")]
+    sets = [(p, "sweep") for p in sweeps] + [(p, "variants") for p in variants]
+    rows = [dict(r, fit=k == 0) for k, (path, kind) in enumerate(sets) for r in _rows(path, kind)]
     bad = [r for r in rows if not r["dh"] > FAILED_BELOW]
     rows = [r for r in rows if r["dh"] > FAILED_BELOW]
-    fit = [r for r in rows if r["source"] == rows[0]["source"]]  # the first sweep's runs
+    fit = [r for r in rows if r["fit"]]  # the first sweep's runs
     vs, dh = np.array([r["slip_speed"] for r in fit]), np.array([r["dh"] for r in fit])
     tau = float(vs @ dh / (vs @ vs))
     for r in rows:
@@ -101,8 +102,7 @@ def main() -> None:
     rows, bad, tau = analyse([Path(p) for p in args.sweep], [Path(p) for p in args.variants])
     for r in bad:
         print(f"left out, drop measurement failed: {r['source']}: {r['label']} (dh {r['dh'] * 1e3:.1f} mm)")
-    fit = [r for r in rows if r["source"] == rows[0]["source"]]
-    print(f"tau = {tau * 1e3:.1f} ms, fitted on the {len(fit)} runs of {args.sweep[0]}")
+    print(f"tau = {tau * 1e3:.1f} ms, fitted on the {sum(r['fit'] for r in rows)} runs of {args.sweep[0]}")
     print(f"{'run':<58s} {'v_s m/s':>8s} {'x':>6s} {'dh mm':>6s}  identity  slip law")
     for r in rows:
         print(f"{r['source'] + ', ' + r['label']:<58s} {r['slip_speed']:8.3f} {r['x']:6.3f} {r['dh'] * 1e3:6.1f}"
