@@ -16,7 +16,7 @@ set against the prediction.
     python examples/wheel_variants.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
         --lug-counts 20 --mass-z 3.15 6.3 9.45 --out docs/figures/wheel_load_prediction.csv
     python examples/wheel_variants.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
-        --lug-counts 20 --push 0 4 8 --out docs/figures/wheel_push_prediction.csv
+        --lug-counts 20 --push -4 0 4 8 12 --out docs/figures/wheel_push_prediction.csv
 
 `predict` writes, for each variant (N, m_z, push) and model (the paper's DRFT; the paper's DRFT +
 bulldozing with the calibration's k_b), the steady v and sinkage. `compare` averages each MPM run
