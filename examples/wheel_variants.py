@@ -22,8 +22,9 @@ set against the prediction.
 bulldozing with the calibration's k_b), the steady v and sinkage. `compare` averages each MPM run
 over the window (`summarise_run`; --history: the 0.25 s windows a run_histories CSV kept of a run
 whose folder is gone, here the 20-grouser wheel in the same box), writes NAME.csv (MPM and
-prediction per variant; for the MPM runs also the rear surface drop dh over the window, from the
-run's own measurements) and NAME.png (against the one variant axis along which the runs differ).
+prediction per variant; for the MPM runs also the rear surface drop dh over the window, the mean
+and the median of the run's own measurements, one per 0.05 s: a snapshot that catches grains
+carried up the wheel's rear gives a large negative drop, which moves the mean) and NAME.png (against the one variant axis along which the runs differ).
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
+import statistics
 from pathlib import Path
 
 import matplotlib
@@ -82,7 +85,7 @@ def predict(args: argparse.Namespace) -> None:
 
 def compare(args: argparse.Namespace) -> None:
     from intrusim.scenarios.locomotor import LocomotorScenario
-    from intrusim.scenarios.mpm_locomotion import MPMSettings, forward_force, summarise_run
+    from intrusim.scenarios.mpm_locomotion import MPMSettings, forward_force, read_progress, summarise_run
 
     with Path(args.prediction).open(newline="") as f:
         pred = [dict(r, lug_count=int(r["lug_count"]), mass_z=float(r.get("mass_z") or TABLE_S1_MASS_Z),
@@ -97,9 +100,11 @@ def compare(args: argparse.Namespace) -> None:
         n, mz = int(info["scenario"]["lug_count"]), float(info["scenario"]["mass_z"])
         push = forward_force(LocomotorScenario.model_validate(info["scenario"]), MPMSettings.model_validate(info["settings"]))
         st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
+        drops = [d for t, d in read_progress(run)[0] if args.window[0] < t <= args.window[1] + 1e-9 and math.isfinite(d)]
         rows.append({"lug_count": n, "mass_z": mz, "push": push, "omega_rpm": round(st.omega / RPM, 3), "model": "MPM",
                      "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift,
-                     "surface_drop": st.surface_drop, "run": str(run)})  # fmt: skip
+                     "surface_drop": st.surface_drop, "surface_drop_median": statistics.median(drops) if drops else "",
+                     "run": str(run)})  # fmt: skip
     for item in args.history:  # a run whose folder is gone: its windows in a run_histories CSV
         path, run_name, n = item.rsplit(":", 2)
         with Path(path).open(newline="") as f:
@@ -114,7 +119,7 @@ def compare(args: argparse.Namespace) -> None:
     if not rows:
         raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
     out = Path(args.out)
-    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "surface_drop", "run"))
+    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "surface_drop", "surface_drop_median", "run"))
     for r in sorted(rows, key=_key):
         print(f"{_variant(r['lug_count'], r['mass_z'], r['push'])}, MPM: v {r['velocity']:.4f} m/s, sinkage {r['sinkage'] * 1e3:.1f} mm (drift {r['drift']:.3f})")
         for p in (p for p in pred if _key(p) == _key(r)):
