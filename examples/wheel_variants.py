@@ -147,7 +147,8 @@ def compare(args: argparse.Namespace) -> None:
         ax.set_ylabel(unit)
     axes[0].legend(fontsize=8)
     what = {"lug_count": "N grousers", "mass_z": "another load", "push": "another forward push"}[keys[axis]]
-    fig.suptitle(f"Table S1 wheel with {what}, {rows[0]['omega_rpm']:g} RPM: DRFT predictions (k_b fitted on N = 20, 6.3 kg, 4 N) and MPM")
+    fig.suptitle(f"Table S1 wheel with {what}, {rows[0]['omega_rpm']:g} RPM:\n"
+                 "DRFT predictions (k_b fitted on N = 20, 6.3 kg, 4 N) and MPM", fontsize=10)
     fig.tight_layout()
     fig.savefig(out.with_suffix(".png"), dpi=120)
     print(out.with_suffix(".csv"), out.with_suffix(".png"))
