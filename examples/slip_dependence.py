@@ -14,7 +14,8 @@ v_s = r omega - v, and the sinkage against the slip s = v_s / (r omega).
 
 The time constant tau of the slip law dh = tau v_s (least squares through the origin) is fitted
 on the first --sweep only (the large wheel's omega sweep); every other run is a check of it.
-Writes OUT.csv (one row per run) and OUT.png (dh / r against x with the identity; dh against v_s
+Writes OUT.csv (one row per run), OUT.json (tau and the quadratic sinkage / r = c0 + c1 s + c2 s^2
+fitted on every run) and OUT.png (dh / r against x with the identity; dh against v_s
 with the slip law; sinkage against slip), and prints both laws' misses. A run whose drop
 measurement failed (dh below -5 mm: the loaded rear contact far above the surface, grains carried
 up the wheel's rear, as for a wheel that digs in) is left out of the drop panels and of the fit;
@@ -28,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 from pathlib import Path
 
@@ -89,12 +91,18 @@ def analyse(sweeps: list[Path], variants: list[Path]) -> tuple[list[dict], float
     tau (s) of dh = tau v_s fitted on the first sweep's runs by least squares through the origin."""
     sets = [(p, "sweep") for p in sweeps] + [(p, "variants") for p in variants]
     rows = [dict(r, fit=k == 0) for k, (path, kind) in enumerate(sets) for r in _rows(path, kind)]
+    rows = list({(r["source"].split(":")[0], r["label"], r["sinkage"]): r for r in rows}.values())  # a run in two CSVs once
     fit = [r for r in rows if r["fit"] and r["drop_ok"]]
     vs, dh = np.array([r["slip_speed"] for r in fit]), np.array([r["dh"] for r in fit])
     tau = float(vs @ dh / (vs @ vs))
     for r in rows:
         r["dh_slip_law"] = tau * r["slip_speed"]
     return rows, tau
+
+
+def slip_sinkage(rows: list[dict]) -> np.ndarray:
+    """Coefficients (c2, c1, c0) of sinkage / r = c0 + c1 s + c2 s^2 fitted on every run."""
+    return np.polyfit([r["slip"] for r in rows], [r["sinkage"] / r["radius"] for r in rows], 2)
 
 
 def _miss(model: float, measured: float) -> str:
@@ -120,8 +128,14 @@ def main() -> None:
                 f"{_miss(r['dh_slip_law'], r['dh'])}") if r["drop_ok"] else (
                 f"{r['dh'] * 1e3:6.1f}  (measurement failed)" if math.isfinite(r["dh"]) else "     -  (not measured)")  # fmt: skip
         print(f"{r['source'] + ', ' + r['label']:<62s} {r['slip']:5.2f} {r['sinkage'] * 1e3:7.1f} {r['slip_speed']:7.3f} {drop}")
+    quad = slip_sinkage(rows)
+    miss = [np.polyval(quad, r["slip"]) * r["radius"] / r["sinkage"] - 1 for r in rows]
+    print(f"sinkage / r = {quad[2]:.4f} + {quad[1]:.4f} s + {quad[0]:.4f} s^2 on {len(rows)} runs: "
+          f"misses {min(miss):+.1%} to {max(miss):+.1%}")  # fmt: skip
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
+    out.with_suffix(".json").write_text(json.dumps({
+        "slip_law_tau_s": tau, "slip_sinkage_c0_c1_c2": [quad[2], quad[1], quad[0]], "runs": len(rows)}, indent=1))
     with out.with_suffix(".csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(FIELDS), extrasaction="ignore")
         w.writeheader()
@@ -140,6 +154,8 @@ def main() -> None:
     v = np.linspace(0.0, max(r["slip_speed"] for r in rows if r["drop_ok"]) * 1.05, 50)
     b.plot(v, tau * v * 1e3, "k-", label=f"dh = {tau * 1e3:.0f} ms x v_s (fit: first sweep)")
     b.set(xlabel="rim slip speed v_s = r omega - v (m/s)", ylabel="dh (mm)", title="rear drop against slip speed")
+    ss = np.linspace(min(r["slip"] for r in rows), max(r["slip"] for r in rows), 50)
+    c.plot(ss, np.polyval(quad, ss), "k-", label="quadratic fit, all runs")
     c.set(xlabel="slip s = 1 - v / (r omega)", ylabel="sinkage / r", title="sinkage against slip")
     for ax in (a, b, c):
         ax.legend(fontsize=6)
