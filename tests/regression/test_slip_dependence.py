@@ -7,6 +7,7 @@ omega alone) gives every one of those runs the same drop.
 """
 
 import importlib.util
+import json
 from pathlib import Path
 
 import numpy as np
@@ -16,16 +17,20 @@ ROOT = Path(__file__).resolve().parents[2]
 FIG = ROOT / "docs" / "figures"
 
 
+VARIANTS = [FIG / "wheel_load.csv", FIG / "wheel_lugs.csv", FIG / "wheel_push.csv"]
+
+
 @pytest.fixture(scope="module")
-def analysis():
+def script():
     spec = importlib.util.spec_from_file_location("slip_dependence", ROOT / "examples" / "slip_dependence.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    rows, tau = mod.analyse(
-        [FIG / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv"],
-        [FIG / "wheel_load.csv", FIG / "wheel_lugs.csv", FIG / "wheel_push.csv"],
-    )
-    return rows, tau
+    return mod
+
+
+@pytest.fixture(scope="module")
+def analysis(script):
+    return script.analyse([FIG / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv"], VARIANTS)
 
 
 def _series(rows, stem):
@@ -79,19 +84,16 @@ def test_sinkage_follows_slip_across_omega_and_push_at_one_load(analysis):
     assert np.ptp(push) > 10.0 * np.sqrt(np.mean(residual**2))
 
 
-def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series():
+def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series(script):
     """Omega (both wheel sizes), load, grouser count and push: one quadratic in the slip within 15 %."""
-    spec = importlib.util.spec_from_file_location("slip_dependence", ROOT / "examples" / "slip_dependence.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    rows, _ = mod.analyse(
-        [FIG / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv", FIG / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv"],
-        [FIG / "wheel_load.csv", FIG / "wheel_lugs.csv", FIG / "wheel_push.csv"],
-    )
+    sweeps = [FIG / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv", FIG / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv"]
+    rows, _ = script.analyse(sweeps, VARIANTS)
     assert len(rows) == 19 and len({r["radius"] for r in rows}) == 2
-    quad = mod.slip_sinkage(rows)
+    quad = script.slip_sinkage(rows)
     miss = np.array([np.polyval(quad, r["slip"]) * r["radius"] / r["sinkage"] - 1.0 for r in rows])
     assert np.max(np.abs(miss)) < 0.15  # -13.1 % to +14.5 %
+    registered = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]  # 5c3b000
+    assert np.allclose(registered, quad[::-1], rtol=1e-9)
     # against the omega-only picture: the 30 RPM Table S1 runs alone span 3x in sinkage
     at30 = [r["sinkage"] for r in rows if r["omega_rpm"] == 30.0 and r["radius"] > 0.1]
     assert max(at30) > 3.0 * min(at30)
