@@ -97,3 +97,12 @@ def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series(s
     # against the omega-only picture: the 30 RPM Table S1 runs alone span 3x in sinkage
     at30 = [r["sinkage"] for r in rows if r["omega_rpm"] == 30.0 and r["radius"] > 0.1]
     assert max(at30) > 3.0 * min(at30)
+
+
+def test_the_four_flap_runner_sits_off_the_wheels_curve(script):
+    """The curve is the grousered wheels': the runner sinks 1.8-2.3x deeper at its slips."""
+    runner = [FIG / "mpm_runner_2p5mm" / band / "four_flap_runner_mpm_sweep.csv" for band in ("band0", "band1")]
+    rows, _ = script.analyse(runner, [])
+    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    ratio = np.array([r["sinkage"] / r["radius"] / (c0 + c1 * r["slip"] + c2 * r["slip"] ** 2) for r in rows])
+    assert len(rows) == 10 and np.all(ratio > 1.5)
