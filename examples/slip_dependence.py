@@ -39,6 +39,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from intrusim.analysis.sweep import SweepResult  # noqa: E402
 from intrusim.params import GRAVITY  # noqa: E402
 from intrusim.scenarios import LOCOMOTORS  # noqa: E402
 
@@ -55,19 +56,19 @@ def _float(text: str | None) -> float:
 
 def _rows(path: Path, kind: str) -> list[dict]:
     """The MPM runs of a sweep CSV (`intrusim mpm collect`) or of a wheel_variants.py compare CSV."""
-    with path.open(newline="") as f:
-        table = list(csv.DictReader(f))
     out = []
     if kind == "sweep":
         name = path.name.removesuffix("_mpm_sweep.csv")
         if name not in RADIUS:
             raise SystemExit(f"{path}: no shipped scenario named {name!r} (known: {sorted(RADIUS)})")
-        for r in table:
-            if r.get("ok", "True") == "True":
-                out.append({"source": f"{name}: omega sweep ({path.parent.name})", "label": f"{float(r['omega_rpm']):g} RPM",
-                            "radius": RADIUS[name], "omega_rpm": float(r["omega_rpm"]), "velocity": float(r["velocity"]),
-                            "sinkage": float(r["sinkage"]), "dh": _float(r["surface_drop"]), "dh_median": math.nan})  # fmt: skip
+        for r in SweepResult.from_csv(path).records:  # empty cells read as NaN
+            if r["ok"]:
+                out.append({"source": f"{name}: omega sweep ({path.parent.name})", "label": f"{r['omega_rpm']:g} RPM",
+                            "radius": RADIUS[name], "omega_rpm": r["omega_rpm"], "velocity": r["velocity"],
+                            "sinkage": r["sinkage"], "dh": r["surface_drop"], "dh_median": math.nan})  # fmt: skip
     else:
+        with path.open(newline="") as f:
+            table = list(csv.DictReader(f))
         for r in table:
             if r["model"] == "MPM":  # a run whose folder is gone (--history) has no drop: NaN
                 push = f", {float(r['push']):g} N" if r.get("push") else ""
