@@ -51,10 +51,10 @@ from intrusim.scenarios.locomotor import with_lug_count, with_mass_z  # noqa: E4
 FIELDS = ("lug_count", "mass_z", "push", "omega_rpm", "model", "velocity", "sinkage", "slip")
 TABLE_S1_MASS_Z = grousered_wheel_scenario().mass_z  # kg, the wheel k_b was fitted on
 MPM_PUSH = with_mpm_push(grousered_wheel_scenario()).external_fx  # N, the MPM runs' forward push (4 N)
-AXES = {  # variant axis: (label of a plot's x axis, its value in the plot)
-    "lug_count": ("grousers", lambda r: r["lug_count"]),
-    "mass_z": ("weight m_z g (N)", lambda r: r["mass_z"] * GRAVITY),
-    "push": ("forward push (N)", lambda r: r["push"]),
+AXES = {  # variant axis: (label of a plot's x axis, its value in the plot, the figure title's words)
+    "lug_count": ("grousers", lambda r: r["lug_count"], "N grousers"),
+    "mass_z": ("weight m_z g (N)", lambda r: r["mass_z"] * GRAVITY, "another load"),
+    "push": ("forward push (N)", lambda r: r["push"], "another forward push"),
 }
 
 
@@ -128,13 +128,13 @@ def compare(args: argparse.Namespace) -> None:
     # the plot's x axis: the one variant axis along which the MPM runs differ (grousers if none);
     # the predictions shown: those at the runs' values of the other axes
     keys = list(AXES)
-    varying = [i for i, a in enumerate(keys) if len({_key(r)[i] for r in rows}) > 1] or [0]
+    varying = [i for i in range(len(keys)) if len({_key(r)[i] for r in rows}) > 1] or [0]
     if len(varying) > 1:
         raise SystemExit(f"the runs differ in {[keys[i] for i in varying]}: compare runs that differ in one of them")
     axis = varying[0]
     fixed = {i: {_key(r)[i] for r in rows} for i in range(len(keys)) if i != axis}
     pred = [p for p in pred if all(_key(p)[i] in vals for i, vals in fixed.items())]
-    xlabel, x_of = AXES[keys[axis]]
+    xlabel, x_of, what = AXES[keys[axis]]
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     models = list(dict.fromkeys(p["model"] for p in pred))
     for ax, key, unit, scale in ((axes[0], "velocity", "v (m/s)", 1.0), (axes[1], "sinkage", "sinkage (mm)", 1e3)):
@@ -146,7 +146,6 @@ def compare(args: argparse.Namespace) -> None:
         ax.set_xlabel(xlabel)
         ax.set_ylabel(unit)
     axes[0].legend(fontsize=8)
-    what = {"lug_count": "N grousers", "mass_z": "another load", "push": "another forward push"}[keys[axis]]
     fig.suptitle(f"Table S1 wheel with {what}, {rows[0]['omega_rpm']:g} RPM:\n"
                  "DRFT predictions (k_b fitted on N = 20, 6.3 kg, 4 N) and MPM", fontsize=10)
     fig.tight_layout()
