@@ -6,7 +6,6 @@ other loads, grouser counts and pushes at 30 RPM are checks. The paper's law (a 
 omega alone) gives every one of those runs the same drop.
 """
 
-import importlib.util
 import json
 from pathlib import Path
 
@@ -21,11 +20,8 @@ VARIANTS = [FIG / "wheel_load.csv", FIG / "wheel_lugs.csv", FIG / "wheel_push.cs
 
 
 @pytest.fixture(scope="module")
-def script():
-    spec = importlib.util.spec_from_file_location("slip_dependence", ROOT / "examples" / "slip_dependence.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def script(load_example):
+    return load_example("slip_dependence")
 
 
 @pytest.fixture(scope="module")
