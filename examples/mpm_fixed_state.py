@@ -12,7 +12,8 @@ bed at rest with the wheel already in place, and records the force on it.
     python examples/mpm_fixed_state.py table runs/fixed --out docs/figures/wheel_fixed_state
 
 `run` writes a run folder (resumable: run the same command again after a stop) named after the
-state and cell size. `table` averages fx, fz and the moment (3D, N and N m, on the wheel) over
+state and cell size; with --snapshot-every S also particle snapshots every S seconds (VTK + PNG,
+read by examples/shear_layer.py). `table` averages fx, fz and the moment (3D, N and N m, on the wheel) over
 --window (default: the last 0.5 s, five grouser periods at 30 RPM) of each run and writes
 NAME.csv and NAME.png (the force histories).
 """
@@ -52,6 +53,8 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
         raise SystemExit(f"--z {args.z} puts the wheel (radius {radius:.3g} m) outside the {domain[1]:g} m high domain")
     if args.z - radius >= args.bed_depth:
         raise SystemExit(f"--z {args.z} puts the wheel above the bed surface ({args.bed_depth:g} m): no contact")
+    if args.snapshot_every is not None:
+        payload["output"]["snapshot_every"] = args.snapshot_every
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -166,6 +169,8 @@ def main() -> None:
     r.add_argument("--start-x", type=float, default=0.15)
     r.add_argument("--threads", type=int, default=2)
     r.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
+    r.add_argument("--snapshot-every", type=float, default=None, metavar="S",
+                   help="s: particle snapshots (VTK + PNG, for examples/shear_layer.py)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
