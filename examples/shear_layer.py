@@ -1,0 +1,293 @@
+"""How wide is the sheared layer under the wheel, and does it shrink with the cells?
+
+The rate-independent Drucker-Prager law has no length of its own (no grain size, no rate), so
+nothing in the continuum sets the thickness of a shear zone: in the MPM it can only be set by
+the grid. This script measures it under the wheel held at a fixed state
+(`examples/mpm_fixed_state.py run ... --snapshot-every S`, one run per cell size) from the
+particle snapshots in a time window:
+
+* the profile of the grains' speed along the rim's motion (backwards at the bottom of a wheel
+  rolling forwards) against the radial depth below the rim, from the points within --sector-deg
+  of the downward vertical through the centre, pooled over the window's snapshots, in depth bins
+  of half a cell (the points' initial spacing);
+* the largest of these speeds against the rim's own at its lowest point, omega r - v (how much
+  of the rim's sliding the grains take up);
+* its 90-10 and 75-25 widths: the depth over which that speed falls from 90 % to 10 % (75 % to
+  25 %) of its largest value (the layer dragged along by the rim);
+* the equivalent plastic strain rate gdot_p on the same line (plotted);
+* the mean force on the wheel over the same window (timeseries.csv), to set the layer's change
+  beside the force's.
+
+    python examples/mpm_fixed_state.py run --cell-mm 2.5 --z 0.2102 --vx 0.148 --rpm 30 --smooth \\
+        --t-max 0.5 --snapshot-every 0.025 --out runs/shear          # and 5, 1.25, 0.625 mm
+    python examples/shear_layer.py runs/shear --out docs/figures/shear_layer
+
+Writes NAME.csv (one row per run: widths in mm and in cells, forces), NAME_profiles.csv (the
+binned profiles) and NAME.png, and prints the table and the power law width ~ h^b fitted over
+the cell sizes (b = 1: the layer is a fixed number of cells thick, set by the grid).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+META = "fixed_state.json"
+RIM_RADIUS = 0.106  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
+DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
+FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
+FLOW_RATES = (1.0, 10.0)  # 1/s: the area of grains shearing faster than each (cm^2 per m of width)
+PERCENTILES = (50.0, 90.0, 99.0)  # of gdot_p over the points near the wheel shearing faster than 1/s
+
+
+def snapshot_steps(run_dir: Path) -> list[tuple[int, Path]]:
+    """(step, path) of every VTK snapshot of a run, in step order."""
+    paths = sorted((run_dir / "snapshots").glob("particles_*.vtu"))
+    return [(int(p.stem.split("_")[-1]), p) for p in paths]
+
+
+def width_between(depth: np.ndarray, y: np.ndarray, hi: float, lo: float) -> float:
+    """Depth span over which y (peaking at depth[argmax]) falls from hi to lo times its peak,
+    by linear interpolation below the peak; NaN when the profile does not fall that far."""
+    k = int(np.nanargmax(y))
+    peak = y[k]
+    d, v = depth[k:], y[k:]
+
+    def crossing(level: float) -> float:
+        below = np.nonzero(v < level * peak)[0]
+        if len(below) == 0:
+            return float("nan")
+        j = below[0]
+        if j == 0:
+            return float(d[0])
+        return float(d[j - 1] + (d[j] - d[j - 1]) * (v[j - 1] - level * peak) / (v[j - 1] - v[j]))
+
+    return crossing(lo) - crossing(hi)
+
+
+def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float) -> dict:
+    """Binned rim-wise speed and gdot_p below the wheel over the window's snapshots of one run."""
+    import meshio
+
+    meta = json.loads((run_dir / META).read_text())
+    dt = json.loads((run_dir / "config.json").read_text())["derived"]["dt"]
+    ts = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
+    h = float(meta["cell_mm"]) * 1e-3
+    edges = np.arange(DEPTH_RANGE[0], DEPTH_RANGE[1] + 0.25 * h, 0.5 * h)
+    sum_u, sum_g, count = (np.zeros(len(edges) - 1) for _ in range(3))
+    used, flowing, fast, last = [], [], [], None
+    for step, path in snapshot_steps(run_dir):
+        t = step * dt
+        if not window[0] - 0.5 * dt <= t <= window[1] + 0.5 * dt or step > ts["step"][-1]:
+            continue
+        xc = float(np.interp(step, ts["step"], ts["x"]))
+        zc = float(np.interp(step, ts["step"], ts["z"]))
+        mesh = meshio.read(path)
+        x, z = mesh.points[:, 0], mesh.points[:, 2]
+        phi = np.arctan2(x - xc, zc - z)  # angle from the downward vertical through the centre
+        sel = np.abs(phi) < np.radians(sector_deg)
+        depth = np.hypot(x[sel] - xc, z[sel] - zc) - RIM_RADIUS  # radially below the rim
+        vel = mesh.point_data["velocity"][sel]
+        u = -(vel[:, 0] * np.cos(phi[sel]) + vel[:, 2] * np.sin(phi[sel]))  # along the rim's motion (clockwise)
+        k = np.digitize(depth, edges) - 1
+        ok = (k >= 0) & (k < len(edges) - 1)
+        np.add.at(sum_u, k[ok], u[ok])
+        np.add.at(sum_g, k[ok], mesh.point_data["gdot_p"][sel][ok])
+        np.add.at(count, k[ok], 1)
+        near = (np.abs(x - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (z > zc + FIELD_BOX[2])
+        gd = mesh.point_data["gdot_p"][near]
+        flowing.append([np.count_nonzero(gd > g) * (0.5 * h) ** 2 for g in FLOW_RATES])
+        fast.append(np.percentile(gd[gd > FLOW_RATES[0]], PERCENTILES))
+        last = {"x": x[near] - xc, "z": z[near] - zc, "gdot": gd}
+        used.append(t)
+    if not used:
+        raise SystemExit(f"{run_dir}: no snapshot in the window {window} s (run it with --snapshot-every)")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        drag, gdot = sum_u / count, sum_g / count
+    centre = 0.5 * (edges[1:] + edges[:-1])
+    keep = count > 0
+    centre, drag, gdot, count = centre[keep], drag[keep], gdot[keep], count[keep]
+    in_window = (ts["time"] >= window[0] - 1e-9) & (ts["time"] <= window[1] + 1e-9)
+    rim_speed = abs(meta["omega_rpm"]) * np.pi / 30.0 * RIM_RADIUS - meta["vx"]  # m/s backwards, the rim's lowest point
+    w90_10 = width_between(centre, drag, 0.9, 0.1)
+    w75_25 = width_between(centre, drag, 0.75, 0.25)
+    smooth = bool(meta.get("smooth", False))
+    return {
+        "series": series_name(smooth, meta["domain"]), "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
+        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]),
+        "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
+        "snapshots": len(used), "t_first": min(used), "t_last": max(used),
+        "rim_speed": rim_speed, "vx_grain_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
+        "width_90_10_mm": 1e3 * w90_10, "width_90_10_cells": w90_10 / h,
+        "width_75_25_mm": 1e3 * w75_25, "width_75_25_cells": w75_25 / h, "gdot_peak": float(np.max(gdot)),
+        "fx": float(np.mean(ts["fx"][in_window])), "fz": float(np.mean(ts["fz"][in_window])),
+        "moment": float(np.mean(ts["moment"][in_window])),
+        **{f"area_gdot_above_{g:g}_cm2": 1e4 * a for g, a in zip(FLOW_RATES, np.mean(flowing, axis=0))},
+        **{f"gdot_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(fast, axis=0))},
+        "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count}, "field": last,
+    }
+
+
+FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
+
+
+def series_name(smooth: bool, domain) -> str:
+    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m."""
+    name = "smooth rim" if smooth else "grousered"
+    return name if tuple(domain) == (0.7, 0.4) else f"{name}, {domain[0]:g} m x {domain[1]:g} m box"
+
+
+def power_law(h: np.ndarray, w: np.ndarray) -> tuple[float, float]:
+    """(b, c) of w = c h^b, least squares in log-log."""
+    b, log_c = np.polyfit(np.log(h), np.log(w), 1)
+    return float(b), float(np.exp(log_c))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("folders", nargs="+", help="folders of fixed-state run folders (or run folders)")
+    ap.add_argument("--window", type=float, nargs=2, default=(0.3, 0.4), metavar=("T0", "T1"), help="s")
+    ap.add_argument("--sector-deg", type=float, default=15.0, help="degrees either side of the downward vertical")
+    ap.add_argument("--out", default="docs/figures/shear_layer")
+    args = ap.parse_args()
+    if not args.window[0] < args.window[1]:
+        raise SystemExit(f"--window {args.window}: T0 must be below T1")
+
+    run_dirs = []
+    for folder in map(Path, args.folders):
+        run_dirs += [p.parent for p in ([folder / META] if (folder / META).exists() else sorted(folder.glob(f"*/{META}")))]
+    run_dirs = [d for d in run_dirs if snapshot_steps(d) and (d / "timeseries.csv").exists()]
+    if not run_dirs:
+        raise SystemExit("no fixed-state run folder with snapshots found")
+    rows = sorted((layer_profile(d, tuple(args.window), args.sector_deg) for d in run_dirs),
+                  key=lambda r: (r["series"], r["z"], r["vx_wheel"], -r["cell_mm"]))
+
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    keys = [k for k in rows[0] if k not in ("profile", "field")]
+    with out.with_suffix(".csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore", lineterminator="\n")
+        w.writeheader()
+        w.writerows([{k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items() if k in keys} for r in rows])
+    with out.with_name(out.name + "_profiles.csv").open("w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["series", "cell_mm", "depth_below_rim_mm", "rimwise_speed", "gdot_p", "points"])
+        for r in rows:
+            p = r["profile"]
+            for d, u, g, n in zip(p["depth"], p["drag"], p["gdot"], p["count"]):
+                w.writerow([r["series"], r["cell_mm"], f"{1e3 * d:.3f}", f"{u:.6g}", f"{g:.6g}", int(n)])
+
+    print("| wheel | cells (mm) | snapshots | area > 1/s, > 10/s (cm^2) | grains' max speed (m/s) | / rim speed | 90-10 width (mm) | (cells) | 75-25 width (mm) | "
+          "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | fx (N) | fz (N) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['vx_grain_max']:.4f} | {r['grain_over_rim']:.2f} | "
+              f"{r['width_90_10_mm']:.2f} | {r['width_90_10_cells']:.2f} | {r['width_75_25_mm']:.2f} | {r['width_75_25_cells']:.2f} | "
+              f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['fx']:+.2f} | {r['fz']:.2f} |")
+    fits = {}
+    for series in dict.fromkeys(r["series"] for r in rows):
+        sub = [r for r in rows if r["series"] == series]
+        if len(sub) >= 2:
+            h = np.array([r["cell_mm"] for r in sub])
+            for key in FITTED:
+                w_ = np.array([r[key] for r in sub])
+                if np.all(np.isfinite(w_)) and np.all(w_ > 0):
+                    fits[(series, key)] = power_law(h, w_)
+                    b, c = fits[(series, key)]
+                    print(f"{series}: {key} = {c:.3g} x (h / mm)^{b:.2f} over h = {h.min():g}-{h.max():g} mm")
+    plot(rows, fits, out.with_suffix(".png"))
+    plot_fields(rows, out.with_name(out.name + "_fields.png"))
+    print(f"wrote {out.with_suffix('.csv')}, {out.name}_profiles.csv, {out.with_suffix('.png')} and {out.name}_fields.png")
+
+
+def plot(rows: list[dict], fits: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    series = list(dict.fromkeys(r["series"] for r in rows))
+    cells = sorted({r["cell_mm"] for r in rows}, reverse=True)
+    fig, axes = plt.subplots(1, 4, figsize=(18, 4.6))
+    for r in rows:
+        p, color, style = r["profile"], f"C{cells.index(r['cell_mm'])}", ["-", "--", ":", "-."][series.index(r["series"]) % 4]
+        label = f"{r['series']}, {r['cell_mm']:g} mm"
+        axes[0].plot(p["drag"], 1e3 * p["depth"], style, color=color, label=label)
+        axes[1].plot(p["gdot"], 1e3 * p["depth"], style, color=color)
+    for ax in axes[:2]:
+        ax.set_ylim(40, -2)
+        ax.set_ylabel("depth below the rim (mm)")
+        ax.axhline(0, color="k", lw=0.6)
+    axes[0].set_xlabel("grains' speed along the rim's motion (m/s)")
+    axes[1].set_xlabel("equivalent plastic strain rate gdot_p (1/s)")
+    axes[0].legend(fontsize=7)
+    for i, name in enumerate(series):
+        sub = [r for r in rows if r["series"] == name]
+        h = np.array([r["cell_mm"] for r in sub])
+        marker = "osD^"[i % 4]
+        for key, color, fill, ax in (("width_90_10_mm", "C0", None, axes[2]), ("width_75_25_mm", "C1", "none", axes[2]),
+                                     ("gdot_p99", "C2", None, axes[3])):
+            label = f"{name}: " + ("99th percentile" if key == "gdot_p99" else f"{key[6:11].replace('_', '-')} width")
+            if (name, key) in fits:
+                b, c = fits[(name, key)]
+                hh = np.geomspace(h.min(), h.max(), 20)
+                ax.loglog(hh, c * hh**b, "--", color=color, lw=0.8)
+                label += f" ~ h^{b:.2f}"
+            ax.loglog(h, [r[key] for r in sub], marker, color=color, mfc=fill, label=label)
+    for ax in axes[2:]:
+        ax.set_xlabel("cell size h (mm)")
+        ax.legend(fontsize=6)
+    axes[2].set_ylabel("width of the sheared layer (mm)")
+    axes[2].set_title("a width set by the grid goes as h^1; a converged one as h^0", fontsize=9)
+    axes[3].set_ylabel("gdot_p near the wheel (1/s)")
+    axes[3].set_title("99th percentile over the points shearing > 1/s", fontsize=9)
+    r0 = rows[0]
+    fig.suptitle(f"The sheared layer below the wheel held at a fixed state ({r0['omega_rpm']:g} RPM, centre "
+                 f"{1e3 * r0['z']:.1f} mm above the floor, v {r0['vx_wheel']:.3f} m/s)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_fields(rows: list[dict], path: Path) -> None:
+    """The strain rate around the wheel at the last snapshot of each run's window, one panel per run."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    series = list(dict.fromkeys(r["series"] for r in rows))
+    cells = sorted({r["cell_mm"] for r in rows}, reverse=True)
+    fig, axes = plt.subplots(len(series), len(cells), figsize=(3.6 * len(cells) + 1.0, 1.7 * len(series) + 0.3),
+                             squeeze=False, layout="constrained")
+    norm = LogNorm(vmin=0.1, vmax=100.0)
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for r in rows:
+        ax = axes[series.index(r["series"]), cells.index(r["cell_mm"])]
+        ax.set_axis_on()
+        f = r["field"]
+        order = np.argsort(f["gdot"])  # fastest on top
+        sc = ax.scatter(1e3 * f["x"][order], 1e3 * f["z"][order], c=np.clip(f["gdot"][order], 0.1, None),
+                        s=0.6 * (r["cell_mm"] / 1.25) ** 2,  # about the points' own area
+                        cmap="viridis", norm=norm, linewidths=0, rasterized=True)
+        phi = np.linspace(0.0, 2.0 * np.pi, 200)
+        ax.fill(1e3 * RIM_RADIUS * np.cos(phi), 1e3 * RIM_RADIUS * np.sin(phi), color="tab:red", alpha=0.8)
+        ax.set_xlim(-150, 250)
+        ax.set_ylim(-170, -40)
+        ax.set_aspect("equal")
+        ax.set_title(f"{r['series']}, {r['cell_mm']:g} mm cells, t = {r['t_last']:.3f} s", fontsize=8)
+        ax.set_xlabel("x - x_wheel (mm)", fontsize=8)
+        ax.set_ylabel("z - z_wheel (mm)", fontsize=8)
+    fig.colorbar(sc, ax=axes.ravel().tolist(), label="gdot_p (1/s)")
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
