@@ -1,30 +1,32 @@
-"""How wide is the sheared layer under the wheel, and does it shrink with the cells?
+"""How thick are the shear zones under the wheel, and do they converge as the cells shrink?
 
 The rate-independent Drucker-Prager law has no length of its own (no grain size, no rate), so
-nothing in the continuum sets the thickness of a shear zone: in the MPM it can only be set by
-the grid. This script measures it under the wheel held at a fixed state
-(`examples/mpm_fixed_state.py run ... --snapshot-every S`, one run per cell size) from the
-particle snapshots in a time window:
+nothing in the continuum sets the thickness of a shear zone: in the MPM only the grid can. This
+script measures the zones under the wheel held at a fixed state (`examples/mpm_fixed_state.py
+run ... --snapshot-every S`, one run per cell size) from the particle snapshots in a time window:
 
 * the profile of the grains' speed along the rim's motion (backwards at the bottom of a wheel
   rolling forwards) against the radial depth below the rim, from the points within --sector-deg
   of the downward vertical through the centre, pooled over the window's snapshots, in depth bins
-  of half a cell (the points' initial spacing);
-* the largest of these speeds against the rim's own at its lowest point, omega r - v (how much
-  of the rim's sliding the grains take up);
-* its 90-10 and 75-25 widths: the depth over which that speed falls from 90 % to 10 % (75 % to
-  25 %) of its largest value (the layer dragged along by the rim);
-* the equivalent plastic strain rate gdot_p on the same line (plotted);
-* the mean force on the wheel over the same window (timeseries.csv), to set the layer's change
-  beside the force's.
+  of half a cell (the points' initial spacing), and the strain rate gdot_p on the same bins;
+* the profile's 90-10 and 75-25 widths: the depth over which that speed falls from 90 % to 10 %
+  (75 % to 25 %) of its largest value (the layer the rim drags along);
+* that largest speed against the rim's own at its lowest point, omega r - v;
+* the 50th, 90th and 99th percentiles of gdot_p over the points around the wheel that shear
+  faster than 1/s, snapshot by snapshot, averaged over the window (the fastest shear, which
+  grows as the bands thin), and the area shearing faster than 1 and 10 /s;
+* the mean force on the wheel over the same window (timeseries.csv).
 
     python examples/mpm_fixed_state.py run --cell-mm 2.5 --z 0.2102 --vx 0.148 --rpm 30 --smooth \\
-        --t-max 0.5 --snapshot-every 0.025 --out runs/shear          # and 5, 1.25, 0.625 mm
-    python examples/shear_layer.py runs/shear --out docs/figures/shear_layer
+        --t-max 0.5 --snapshot-every 0.025 --out runs/shear          # and 5, 1.25 mm; without --smooth
+    python examples/mpm_fixed_state.py run --cell-mm 0.625 ... --smooth --t-max 0.4 --domain 0.45 0.4 \\
+        --snapshot-every 0.025 --out runs/shear_small                 # and 1.25 mm, the same box
+    python examples/shear_layer.py runs/shear runs/shear_small --out docs/figures/shear_layer
 
-Writes NAME.csv (one row per run: widths in mm and in cells, forces), NAME_profiles.csv (the
-binned profiles) and NAME.png, and prints the table and the power law width ~ h^b fitted over
-the cell sizes (b = 1: the layer is a fixed number of cells thick, set by the grid).
+Writes NAME.csv (one row per run), NAME_profiles.csv (the binned profiles), NAME.png (profiles,
+widths and the 99th percentile against the cell size) and NAME_fields.png (gdot_p around the
+wheel at the window's last snapshot), and prints the table and the power laws c h^b fitted per
+series of runs (a width the grid sets goes as h^1, a converged one as h^0).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
 FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
 FLOW_RATES = (1.0, 10.0)  # 1/s: the area of grains shearing faster than each (cm^2 per m of width)
 PERCENTILES = (50.0, 90.0, 99.0)  # of gdot_p over the points near the wheel shearing faster than 1/s
+FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
 
 
 def snapshot_steps(run_dir: Path) -> list[tuple[int, Path]]:
@@ -101,7 +104,8 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         near = (np.abs(x - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (z > zc + FIELD_BOX[2])
         gd = mesh.point_data["gdot_p"][near]
         flowing.append([np.count_nonzero(gd > g) * (0.5 * h) ** 2 for g in FLOW_RATES])
-        fast.append(np.percentile(gd[gd > FLOW_RATES[0]], PERCENTILES))
+        shearing = gd[gd > FLOW_RATES[0]]
+        fast.append(np.percentile(shearing, PERCENTILES) if len(shearing) else np.full(len(PERCENTILES), np.nan))
         last = {"x": x[near] - xc, "z": z[near] - zc, "gdot": gd}
         used.append(t)
     if not used:
@@ -121,7 +125,7 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
         "snapshots": len(used), "t_first": min(used), "t_last": max(used),
-        "rim_speed": rim_speed, "vx_grain_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
+        "rim_speed": rim_speed, "grain_speed_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
         "width_90_10_mm": 1e3 * w90_10, "width_90_10_cells": w90_10 / h,
         "width_75_25_mm": 1e3 * w75_25, "width_75_25_cells": w75_25 / h, "gdot_peak": float(np.max(gdot)),
         "fx": float(np.mean(ts["fx"][in_window])), "fz": float(np.mean(ts["fz"][in_window])),
@@ -130,9 +134,6 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         **{f"gdot_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(fast, axis=0))},
         "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count}, "field": last,
     }
-
-
-FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
 
 
 def series_name(smooth: bool, domain) -> str:
@@ -185,7 +186,7 @@ def main() -> None:
           "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | fx (N) | fz (N) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['vx_grain_max']:.4f} | {r['grain_over_rim']:.2f} | "
+        print(f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['grain_speed_max']:.4f} | {r['grain_over_rim']:.2f} | "
               f"{r['width_90_10_mm']:.2f} | {r['width_90_10_cells']:.2f} | {r['width_75_25_mm']:.2f} | {r['width_75_25_cells']:.2f} | "
               f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['fx']:+.2f} | {r['fz']:.2f} |")
     fits = {}
