@@ -6,7 +6,7 @@ import pytest
 from intrusim.mpm.backend import ensure_initialized
 from intrusim.mpm.config import MaterialConfig
 from intrusim.mpm.constitutive import (
-    DruckerPragerSeparation, drucker_prager_update_numpy, pressure, stress_update_batch,
+    DruckerPragerSeparation, drucker_prager_update_numpy, pressure, stress_update_batch, stress_update_kernel,
 )
 
 MAT = DruckerPragerSeparation.from_config(MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3))
@@ -22,7 +22,7 @@ def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params):
             ti.Matrix.ndarray(2, 2, ti.f32, shape=n), ti.ndarray(ti.f32, shape=n), ti.ndarray(ti.f32, shape=n)]
     for a, d in zip(arrs, (sigma, s_yy, L, rho, np.zeros(n))):
         a.from_numpy(np.asarray(d, np.float32))
-    stress_update_batch(*arrs, dt, prm)
+    stress_update_kernel(len(prm))(*arrs, dt, prm)
     return arrs[0].to_numpy(), arrs[1].to_numpy(), arrs[4].to_numpy()
 
 
@@ -101,3 +101,51 @@ def test_taichi_matches_numpy_random():
     b = taichi_update(sigma, syy, L, rho)
     for x, y in zip(a, b):
         np.testing.assert_allclose(y, x, rtol=2e-4, atol=1e-2)
+
+
+VISCOUS = DruckerPragerSeparation.from_config(
+    MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3, viscosity=20.0))
+
+
+def test_the_paper_law_has_four_parameters_and_the_viscosity_a_fifth():
+    assert len(MAT.params) == 4 and MAT.viscosity == 0.0
+    assert VISCOUS.params == MAT.params + (20.0,)
+    assert stress_update_kernel(4) is stress_update_batch
+
+
+@pytest.mark.parametrize("update", BOTH)
+def test_viscous_return_stops_at_the_overstress(update):
+    """tau = mu_s P + eta dgamma/dt at a yielding point, pressure kept; eta = 0 is the plain return."""
+    sigma, syy, rho = _state()
+    L = np.array([[[0.0, 400.0], [0.0, 0.0]]])  # a fast shear: tau* far above mu_s P
+    G = VISCOUS.shear_modulus
+    out_v = update(sigma, syy, L, rho, DT, VISCOUS.params) if update is drucker_prager_update_numpy else update(
+        sigma, syy, L, rho, prm=VISCOUS.params)
+    out_0 = update(sigma, syy, L, rho, DT, MAT.params) if update is drucker_prager_update_numpy else update(sigma, syy, L, rho)
+    for sig, s_yy, dg in (out_v, out_0):
+        p = pressure(sig, s_yy)[0]
+        assert p == pytest.approx(1000.0, rel=1e-5)  # tr D = 0: the pressure is unchanged
+    (sig_v, syy_v, dg_v), (sig_0, syy_0, dg_0) = out_v, out_0
+    dev = lambda sig, s_yy: np.sqrt(0.5 * (((sig[0] + 1000.0 * np.eye(2)) ** 2).sum() + (s_yy[0] + 1000.0) ** 2))
+    tau_v, tau_0 = dev(sig_v, syy_v), dev(sig_0, syy_0)
+    assert tau_0 == pytest.approx(0.5 * 1000.0, rel=1e-5)
+    assert tau_v - 0.5 * 1000.0 == pytest.approx(20.0 * dg_v[0] / DT, rel=1e-4)  # the overstress is eta gdot
+    assert tau_v > tau_0 and dg_v[0] < dg_0[0]
+    # the trial stress is the same, so tau* = tau + G dgamma in both
+    assert tau_v + G * dg_v[0] == pytest.approx(tau_0 + G * dg_0[0], rel=1e-5)
+
+
+def test_viscous_taichi_matches_numpy_random():
+    rng = np.random.default_rng(1)
+    n = 200
+    sigma, syy, _ = _state(n=n)
+    sigma = sigma + rng.normal(0, 300, (n, 2, 2))
+    sigma = 0.5 * (sigma + np.swapaxes(sigma, 1, 2))
+    L = rng.normal(0, 5.0, (n, 2, 2))
+    rho = rng.uniform(850, 1000, n)
+    a = drucker_prager_update_numpy(sigma, syy, L, rho, DT, VISCOUS.params)
+    b = taichi_update(sigma, syy, L, rho, prm=VISCOUS.params)
+    c = drucker_prager_update_numpy(sigma, syy, L, rho, DT, MAT.params)
+    for x, y in zip(a, b):
+        np.testing.assert_allclose(y, x, rtol=2e-4, atol=1e-2)
+    assert np.max(np.abs(a[2] - c[2])) > 1e-4  # the viscosity changes the plastic increments

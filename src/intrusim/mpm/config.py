@@ -27,6 +27,11 @@ class MaterialConfig(_Model):
     mu_s: float = Field(0.56, ge=0, description="internal friction coefficient tau/P at yield")
     youngs_modulus: float = Field(1.0e6, gt=0, description="numerical elastic stiffness E, Pa")
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson ratio nu")
+    viscosity: float = Field(
+        0.0, ge=0,
+        description="Pa s: viscous overstress at yield, tau = mu_s P + eta gdot (a diagnostic regularisation, "
+        "not in the paper; 0 = the paper's rate-independent law)",
+    )
     rho_floor_fraction: float = Field(
         0.1, gt=0, lt=1,
         description="lowest density a point dilutes to, / rho_c (a point alone in flight keeps its APIC "

@@ -9,6 +9,12 @@ Update (Dunatunga & Kamrin 2015, explicit):
 2. free separation            T = 0          if rho < rho_c or P* <= 0
 3. Drucker-Prager return       T' <- T' mu_s P* / tau*   if tau* > mu_s P*   (P unchanged)
 
+Optionally (``viscosity`` eta > 0; not in the paper, a diagnostic regularisation) the return
+stops at the overstress tau = mu_s P + eta dgamma/dt (Perzyna / Duvaut-Lions):
+tau = (mu_s P + k tau*) / (1 + k) with k = eta / (G dt). It gives the flow a rate, and so a
+length, that the rate-independent law lacks (docs/results.md, "Where the 1.25 mm difference
+comes from", items 4-5).
+
 with P = -tr(T)/3 (3D trace), T' = T + P I, tau = sqrt(T':T'/2), D = sym(L), W = skew(L).
 Plastic flow is incompressible (pressure is kept) and coaxial (radial return).
 The same law is written twice: a Taichi function for the solver and a NumPy function for the
@@ -26,9 +32,10 @@ from .config import MaterialConfig
 
 @ti.func
 def drucker_prager_update(sigma, s_yy, L, rho, dt, prm):
-    """Stress update of one point; ``prm`` = (G, lam, mu_s, rho_c). Returns (sigma, s_yy, dgamma_p).
+    """Stress update of one point; ``prm`` = (G, lam, mu_s, rho_c) or (G, lam, mu_s, rho_c, eta).
+    Returns (sigma, s_yy, dgamma_p).
 
-    dgamma_p is the equivalent plastic shear strain increment (tau* - mu_s P*)/G; for
+    dgamma_p is the equivalent plastic shear strain increment (tau* - tau)/G; for
     disconnected material (stress-free) it is the total shear strain increment dt*sqrt(2 D':D') (3D deviator).
     Written in components (xx, xz, zz, yy): in 2D, W T - T W = w [[2 T_xz, T_zz - T_xx], [., -2 T_xz]]
     with w = W_xz = (L_xz - L_zx)/2.
@@ -55,9 +62,13 @@ def drucker_prager_update(sigma, s_yy, L, rho, dt, prm):
         a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
         tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
         if tau > mu_s * p:
-            # radial return at fixed pressure: tau -> mu_s P
-            scale = mu_s * p / tau
-            dgamma = (tau - mu_s * p) / G
+            # radial return at fixed pressure: tau -> mu_s P (+ eta dgamma/dt with a 5th parameter)
+            tau_new = mu_s * p
+            if ti.static(prm.n > 4):
+                k = prm[4] / (G * dt)
+                tau_new = (tau_new + k * tau) / (1.0 + k)
+            scale = tau_new / tau
+            dgamma = (tau - tau_new) / G
             t_xx, t_zz, t_yy, t_xz = a_xx * scale - p, a_zz * scale - p, a_yy * scale - p, t_xz * scale
     return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
 
@@ -79,9 +90,10 @@ def drucker_prager_update_numpy(
     L : (N, 2, 2) velocity gradient dv_i/dx_j, 1/s.
     rho : (N,) density, kg/m^3.
     dt : time step, s.
-    prm : (G, lam, mu_s, rho_c) in Pa, Pa, -, kg/m^3.
+    prm : (G, lam, mu_s, rho_c) in Pa, Pa, -, kg/m^3, and optionally the viscosity eta, Pa s.
     """
-    G, lam, mu_s, rho_c = prm
+    G, lam, mu_s, rho_c = prm[:4]
+    k = prm[4] / (G * dt) if len(prm) > 4 else 0.0
     D = 0.5 * (L + np.swapaxes(L, 1, 2))
     W = 0.5 * (L - np.swapaxes(L, 1, 2))
     tr_d = D[:, 0, 0] + D[:, 1, 1]
@@ -95,8 +107,9 @@ def drucker_prager_update_numpy(
     dev_yy = syy + p
     tau = np.sqrt(0.5 * ((dev * dev).sum(axis=(1, 2)) + dev_yy**2))
     yielding = tau > mu_s * p
-    scale = np.where(yielding, mu_s * p / np.where(tau > 0, tau, 1.0), 1.0)
-    dgamma = np.where(yielding, (tau - mu_s * p) / G, 0.0)
+    tau_new = (mu_s * p + k * tau) / (1.0 + k)
+    scale = np.where(yielding, tau_new / np.where(tau > 0, tau, 1.0), 1.0)
+    dgamma = np.where(yielding, (tau - tau_new) / G, 0.0)
     sig = dev * scale[:, None, None] - p[:, None, None] * eye
     syy = dev_yy * scale - p
     free = (rho < rho_c) | (p <= 0.0)
@@ -121,18 +134,21 @@ class DruckerPragerSeparation:
     lame_lambda: float
     mu_s: float
     rho_c: float
+    viscosity: float = 0.0
 
     taichi_update = staticmethod(drucker_prager_update)
     numpy_update = staticmethod(drucker_prager_update_numpy)
 
     @classmethod
     def from_config(cls, cfg: MaterialConfig) -> "DruckerPragerSeparation":
-        return cls(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c)
+        return cls(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, cfg.viscosity)
 
     @property
-    def params(self) -> tuple[float, float, float, float]:
-        """(G Pa, lam Pa, mu_s, rho_c kg/m^3) in the order the update functions expect."""
-        return (self.shear_modulus, self.lame_lambda, self.mu_s, self.rho_c)
+    def params(self) -> tuple[float, ...]:
+        """(G Pa, lam Pa, mu_s, rho_c kg/m^3) in the order the update functions expect, and the
+        viscosity eta (Pa s) as a 5th only when it is not 0 (the paper's law compiles without it)."""
+        base = (self.shear_modulus, self.lame_lambda, self.mu_s, self.rho_c)
+        return base + (self.viscosity,) if self.viscosity > 0.0 else base
 
 
 def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
@@ -140,15 +156,28 @@ def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
     return -(sigma[..., 0, 0] + sigma[..., 1, 1] + s_yy) / 3.0
 
 
-@ti.kernel
-def stress_update_batch(
-    sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), L: ti.types.ndarray(),
-    rho: ti.types.ndarray(), dgamma: ti.types.ndarray(), dt: float,
-    prm: ti.types.vector(4, float),
-):
-    """Apply :func:`drucker_prager_update` to arrays of points in place (tests, diagnostics)."""
-    for p in range(sigma.shape[0]):
-        sig, syy, dg = drucker_prager_update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
-        sigma[p] = sig
-        s_yy[p] = syy
-        dgamma[p] = dg
+_BATCH_KERNELS: dict = {}
+
+
+def stress_update_kernel(n_params: int = 4):
+    """A kernel applying :func:`drucker_prager_update` in place to arrays of points, for a
+    parameter vector of length ``n_params`` (tests, diagnostics)."""
+    if n_params not in _BATCH_KERNELS:
+
+        @ti.kernel
+        def stress_update_batch(
+            sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), L: ti.types.ndarray(),
+            rho: ti.types.ndarray(), dgamma: ti.types.ndarray(), dt: float,
+            prm: ti.types.vector(n_params, float),
+        ):
+            for p in range(sigma.shape[0]):
+                sig, syy, dg = drucker_prager_update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
+                sigma[p] = sig
+                s_yy[p] = syy
+                dgamma[p] = dg
+
+        _BATCH_KERNELS[n_params] = stress_update_batch
+    return _BATCH_KERNELS[n_params]
+
+
+stress_update_batch = stress_update_kernel(4)

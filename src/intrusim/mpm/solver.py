@@ -84,7 +84,7 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        self._g2p = g2p_kernel(self.material.taichi_update)
+        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
         # by the obstacles still in place: the step's launches, the obstacles' (constant) box
         # and pose values, and its graph once compiled
         self._plans: dict[tuple[bool, ...], tuple[list[Launch], dict]] = {}

@@ -171,8 +171,9 @@ def exp_near_zero(x):
 _G2P_KERNELS: dict = {}
 
 
-def g2p_kernel(stress_update):
-    """G2P + density + stress kernel for a material ``ti.func`` (one compiled kernel per law).
+def g2p_kernel(stress_update, n_params: int = 4):
+    """G2P + density + stress kernel for a material ``ti.func`` taking ``n_params`` parameters
+    (one compiled kernel per law and parameter count).
 
     The stages are fused in one pass over the points to read and write each point once:
     G2P (velocity, position, velocity gradient), density v_p *= exp(dt tr L), stress update.
@@ -181,15 +182,15 @@ def g2p_kernel(stress_update):
     bed with, and exp(dt tr L) would grow without bound (float overflow, then NaN; seen at 150 RPM
     on the runner, docs/mpm.md).
     """
-    if stress_update in _G2P_KERNELS:
-        return _G2P_KERNELS[stress_update]
+    if (stress_update, n_params) in _G2P_KERNELS:
+        return _G2P_KERNELS[(stress_update, n_params)]
 
     @ti.kernel
     def g2p_density_stress(
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(4, float), inv_rho_floor: float,
+        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
     ):
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
         for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
@@ -204,5 +205,5 @@ def g2p_kernel(stress_update):
             eps_p[p] += dgamma
             gdot_p[p] = dgamma / dt
 
-    _G2P_KERNELS[stress_update] = g2p_density_stress
+    _G2P_KERNELS[(stress_update, n_params)] = g2p_density_stress
     return g2p_density_stress
