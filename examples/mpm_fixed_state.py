@@ -55,6 +55,7 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
         raise SystemExit(f"--z {args.z} puts the wheel above the bed surface ({args.bed_depth:g} m): no contact")
     if args.snapshot_every is not None:
         payload["output"]["snapshot_every"] = args.snapshot_every
+    payload["material"]["viscosity"] = args.viscosity
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -64,6 +65,7 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
 def run(args: argparse.Namespace) -> None:
     tag = f"z{1e3 * args.z:.1f}mm_v{1e3 * args.vx:.1f}mm_s_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
     tag += "_smooth" if args.smooth else ""
+    tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -71,7 +73,8 @@ def run(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
-            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth}  # fmt: skip
+            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth,
+            "viscosity": args.viscosity}  # fmt: skip
     (out / META).write_text(json.dumps(meta, indent=1))
 
     def progress(s: Solver) -> None:
@@ -171,6 +174,8 @@ def main() -> None:
     r.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
     r.add_argument("--snapshot-every", type=float, default=None, metavar="S",
                    help="s: particle snapshots (VTK + PNG, for examples/shear_layer.py)")
+    r.add_argument("--viscosity", type=float, default=0.0, metavar="ETA",
+                   help="Pa s: viscous overstress at yield (MaterialConfig.viscosity; a diagnostic, not the paper's law)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
