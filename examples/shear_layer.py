@@ -121,8 +121,8 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     w75_25 = width_between(centre, drag, 0.75, 0.25)
     smooth = bool(meta.get("smooth", False))
     return {
-        "series": series_name(smooth, meta["domain"]), "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
-        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]),
+        "series": series_name(smooth, meta["domain"], meta.get("viscosity", 0.0)), "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
+        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(meta.get("viscosity", 0.0)),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
         "snapshots": len(used), "t_first": min(used), "t_last": max(used),
         "rim_speed": rim_speed, "grain_speed_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
@@ -136,10 +136,12 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     }
 
 
-def series_name(smooth: bool, domain) -> str:
-    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m."""
+def series_name(smooth: bool, domain, viscosity: float = 0.0) -> str:
+    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m and the
+    viscous overstress when there is one."""
     name = "smooth rim" if smooth else "grousered"
-    return name if tuple(domain) == (0.7, 0.4) else f"{name}, {domain[0]:g} m x {domain[1]:g} m box"
+    name += "" if tuple(domain) == (0.7, 0.4) else f", {domain[0]:g} m x {domain[1]:g} m box"
+    return name + (f", eta {viscosity:g} Pa s" if viscosity > 0.0 else "")
 
 
 def power_law(h: np.ndarray, w: np.ndarray) -> tuple[float, float]:

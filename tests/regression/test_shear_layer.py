@@ -63,6 +63,8 @@ def test_the_shear_localises_further_at_every_halving_of_the_cells():
         series.setdefault(row["series"], []).append(row)
     assert {"grousered", "smooth rim"} <= set(series) and len(table) >= 7
     for name, rows in series.items():
+        if "eta" in name:
+            continue  # the viscous overstress, next test
         rows.sort(key=lambda r: -float(r["cell_mm"]))  # coarse to fine
         p99 = np.array([float(r["gdot_p99"]) for r in rows])
         assert np.all(np.diff(p99) > 0), name  # faster at every halving
@@ -74,3 +76,18 @@ def test_the_shear_localises_further_at_every_halving_of_the_cells():
     assert width[0] > 1.3 * width[1] and width[1] > 1.2 * width[2]  # 19.3 -> 12.9 -> 10.0 mm
     in_cells = [float(r["width_90_10_cells"]) for r in grousered]
     assert in_cells[0] < in_cells[1] < in_cells[2]  # and yet not a fixed number of cells
+
+
+def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
+    """docs/results.md item 5: with eta = 10 Pa s the layer keeps its width and the lift moves
+    1.6 % from 2.5 to 1.25 mm, against 8 % for the paper's rate-independent law."""
+    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
+    visc, plain = "grousered, eta 10 Pa s", "grousered"
+    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    assert abs(lift(visc, 1.25) / lift(visc, 2.5) - 1.0) < 0.03
+    assert abs(lift(plain, 1.25) / lift(plain, 2.5) - 1.0) > 0.06
+    width = lambda name, h: float(rows[(name, h)]["width_90_10_mm"])
+    assert abs(width(visc, 1.25) / width(visc, 2.5) - 1.0) < 0.15  # 21.8 -> 19.7 mm
+    assert width(plain, 1.25) / width(plain, 2.5) < 0.8  # 12.9 -> 10.0 mm
+    p99 = lambda name, h: float(rows[(name, h)]["gdot_p99"])
+    assert p99(visc, 1.25) / p99(visc, 2.5) < p99(plain, 1.25) / p99(plain, 2.5)
