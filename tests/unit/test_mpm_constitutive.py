@@ -89,14 +89,17 @@ def test_jaumann_spin_rotates_stress(update):
     assert np.trace(sig[0]) == pytest.approx(np.trace(sigma[0]), rel=1e-6)
 
 
-def test_taichi_matches_numpy_random():
-    rng = np.random.default_rng(0)
-    n = 200
+def _random_state(seed, n=200):
+    """n points near P = 1000 Pa with random stress, velocity gradient and density."""
+    rng = np.random.default_rng(seed)
     sigma, syy, _ = _state(n=n)
     sigma = sigma + rng.normal(0, 300, (n, 2, 2))
     sigma = 0.5 * (sigma + np.swapaxes(sigma, 1, 2))
-    L = rng.normal(0, 5.0, (n, 2, 2))
-    rho = rng.uniform(850, 1000, n)
+    return sigma, syy, rng.normal(0, 5.0, (n, 2, 2)), rng.uniform(850, 1000, n)
+
+
+def test_taichi_matches_numpy_random():
+    sigma, syy, L, rho = _random_state(0)
     a = drucker_prager_update_numpy(sigma, syy, L, rho, DT, MAT.params)
     b = taichi_update(sigma, syy, L, rho)
     for x, y in zip(a, b):
@@ -136,13 +139,7 @@ def test_viscous_return_stops_at_the_overstress(update):
 
 
 def test_viscous_taichi_matches_numpy_random():
-    rng = np.random.default_rng(1)
-    n = 200
-    sigma, syy, _ = _state(n=n)
-    sigma = sigma + rng.normal(0, 300, (n, 2, 2))
-    sigma = 0.5 * (sigma + np.swapaxes(sigma, 1, 2))
-    L = rng.normal(0, 5.0, (n, 2, 2))
-    rho = rng.uniform(850, 1000, n)
+    sigma, syy, L, rho = _random_state(1)
     a = drucker_prager_update_numpy(sigma, syy, L, rho, DT, VISCOUS.params)
     b = taichi_update(sigma, syy, L, rho, prm=VISCOUS.params)
     c = drucker_prager_update_numpy(sigma, syy, L, rho, DT, MAT.params)
