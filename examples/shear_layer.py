@@ -38,8 +38,10 @@ from pathlib import Path
 
 import numpy as np
 
+from intrusim.scenarios import grousered_wheel_scenario
+
 META = "fixed_state.json"
-RIM_RADIUS = 0.106  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
+RIM_RADIUS = grousered_wheel_scenario().radius  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
 DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
 FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
 FLOW_RATES = (1.0, 10.0)  # 1/s: the area of grains shearing faster than each (cm^2 per m of width)
