@@ -14,6 +14,7 @@ DT = 1e-4
 
 
 def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params):
+    """:func:`drucker_prager_update` through a batch kernel, called as the NumPy twin is."""
     import taichi as ti
 
     ensure_initialized(precision="f32")
@@ -38,7 +39,7 @@ def _state(p0=1000.0, n=1):
 def test_elastic_step_matches_hooke(update):
     sigma, syy, rho = _state()
     D = np.array([[[2e-3, 1e-3], [1e-3, -1e-3]]])  # small symmetric rate, 1/s
-    sig, s_out, dg = update(sigma, syy, D, rho, DT, MAT.params) if update is drucker_prager_update_numpy else update(sigma, syy, D, rho)
+    sig, s_out, dg = update(sigma, syy, D, rho, DT, MAT.params)
     G, lam = MAT.shear_modulus, MAT.lame_lambda
     tr = np.trace(D[0])
     expect = sigma[0] + DT * (2 * G * D[0] + lam * tr * np.eye(2))
@@ -51,8 +52,7 @@ def test_elastic_step_matches_hooke(update):
 def test_radial_return_keeps_pressure_and_reaches_yield(update):
     sigma, syy, rho = _state()
     L = np.array([[[0.0, 50.0], [50.0, 0.0]]])  # large pure shear: trial far above yield
-    args = (sigma, syy, L, rho, DT, MAT.params) if update is drucker_prager_update_numpy else (sigma, syy, L, rho)
-    sig, s_out, dg = update(*args)
+    sig, s_out, dg = update(sigma, syy, L, rho, DT, MAT.params)
     p = pressure(sig, s_out)[0]
     # pressure unchanged by the return (trial pressure = initial, tr D = 0)
     assert p == pytest.approx(1000.0, rel=1e-5)
@@ -70,8 +70,7 @@ def test_tension_and_low_density_give_zero_stress(update):
     L = np.zeros((2, 2, 2))
     L[0] = np.eye(2) * 100.0  # strong expansion: trial pressure < 0
     rho = np.array([950.0, 800.0])  # second point below rho_c = 900
-    args = (sigma, syy, L, rho, DT, MAT.params) if update is drucker_prager_update_numpy else (sigma, syy, L, rho)
-    sig, s_out, _ = update(*args)
+    sig, s_out, _ = update(sigma, syy, L, rho, DT, MAT.params)
     assert np.all(sig == 0.0) and np.all(s_out == 0.0)
 
 
@@ -81,8 +80,7 @@ def test_jaumann_spin_rotates_stress(update):
     syy, rho = np.array([-1500.0]), np.array([950.0])
     w = 10.0
     L = np.array([[[0.0, -w], [w, 0.0]]])  # rigid spin, no strain
-    args = (sigma, syy, L, rho, DT, MAT.params) if update is drucker_prager_update_numpy else (sigma, syy, L, rho)
-    sig, s_out, _ = update(*args)
+    sig, s_out, _ = update(sigma, syy, L, rho, DT, MAT.params)
     W = L[0]
     expect = sigma[0] + DT * (W @ sigma[0] - sigma[0] @ W)
     np.testing.assert_allclose(sig[0], expect, rtol=1e-5, atol=1e-3)
@@ -122,9 +120,8 @@ def test_viscous_return_stops_at_the_overstress(update):
     sigma, syy, rho = _state()
     L = np.array([[[0.0, 400.0], [0.0, 0.0]]])  # a fast shear: tau* far above mu_s P
     G = VISCOUS.shear_modulus
-    out_v = update(sigma, syy, L, rho, DT, VISCOUS.params) if update is drucker_prager_update_numpy else update(
-        sigma, syy, L, rho, prm=VISCOUS.params)
-    out_0 = update(sigma, syy, L, rho, DT, MAT.params) if update is drucker_prager_update_numpy else update(sigma, syy, L, rho)
+    out_v = update(sigma, syy, L, rho, DT, VISCOUS.params)
+    out_0 = update(sigma, syy, L, rho, DT, MAT.params)
     for sig, s_yy, dg in (out_v, out_0):
         p = pressure(sig, s_yy)[0]
         assert p == pytest.approx(1000.0, rel=1e-5)  # tr D = 0: the pressure is unchanged
