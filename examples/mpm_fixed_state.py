@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from intrusim.mpm.config import MPMConfig, PrescribedMotion
+from intrusim.mpm.config import MPMConfig, MuIConfig, PrescribedMotion
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
@@ -56,6 +56,8 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     if args.snapshot_every is not None:
         payload["output"]["snapshot_every"] = args.snapshot_every
     payload["material"]["viscosity"] = args.viscosity
+    if args.mu_i_diameter is not None:
+        payload["material"]["mu_i"] = MuIConfig(grain_diameter=args.mu_i_diameter).model_dump()
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -66,6 +68,7 @@ def run(args: argparse.Namespace) -> None:
     tag = f"z{1e3 * args.z:.1f}mm_v{1e3 * args.vx:.1f}mm_s_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
     tag += "_smooth" if args.smooth else ""
     tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
+    tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -74,7 +77,7 @@ def run(args: argparse.Namespace) -> None:
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
             "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth,
-            "viscosity": args.viscosity}  # fmt: skip
+            "viscosity": args.viscosity, "mu_i": cfg.material.mu_i and cfg.material.mu_i.model_dump()}  # fmt: skip
     (out / META).write_text(json.dumps(meta, indent=1))
 
     def progress(s: Solver) -> None:
@@ -176,6 +179,9 @@ def main() -> None:
                    help="s: particle snapshots (VTK + PNG, for examples/shear_layer.py)")
     r.add_argument("--viscosity", type=float, default=0.0, metavar="ETA",
                    help="Pa s: viscous overstress at yield (MaterialConfig.viscosity; a diagnostic, not the paper's law)")
+    r.add_argument("--mu-i-diameter", type=float, default=None, metavar="D",
+                   help="m: inertial-number friction mu(I) with grains of diameter D (MaterialConfig.mu_i, other "
+                        "parameters at their defaults; not the paper's law)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")

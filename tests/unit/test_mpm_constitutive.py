@@ -4,17 +4,18 @@ import numpy as np
 import pytest
 
 from intrusim.mpm.backend import ensure_initialized
-from intrusim.mpm.config import MaterialConfig
+from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import (
-    DruckerPragerSeparation, drucker_prager_update_numpy, pressure, stress_update_batch, stress_update_kernel,
+    DruckerPragerSeparation, MuIDruckerPrager, drucker_prager_update_numpy, material_from_config, mu_i_update,
+    mu_i_update_numpy, pressure, stress_update_batch, stress_update_kernel,
 )
 
 MAT = DruckerPragerSeparation.from_config(MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3))
 DT = 1e-4
 
 
-def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params):
-    """:func:`drucker_prager_update` through a batch kernel, called as the NumPy twin is."""
+def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params, update=None):
+    """:func:`drucker_prager_update` (or ``update``) through a batch kernel, called as the NumPy twin is."""
     import taichi as ti
 
     ensure_initialized(precision="f32")
@@ -23,7 +24,8 @@ def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params):
             ti.Matrix.ndarray(2, 2, ti.f32, shape=n), ti.ndarray(ti.f32, shape=n), ti.ndarray(ti.f32, shape=n)]
     for a, d in zip(arrs, (sigma, s_yy, L, rho, np.zeros(n))):
         a.from_numpy(np.asarray(d, np.float32))
-    stress_update_kernel(len(prm))(*arrs, dt, prm)
+    kernel = stress_update_kernel(len(prm)) if update is None else stress_update_kernel(len(prm), update)
+    kernel(*arrs, dt, prm)
     return arrs[0].to_numpy(), arrs[1].to_numpy(), arrs[4].to_numpy()
 
 
@@ -143,3 +145,66 @@ def test_viscous_taichi_matches_numpy_random():
     for x, y in zip(a, b):
         np.testing.assert_allclose(y, x, rtol=2e-4, atol=1e-2)
     assert np.max(np.abs(a[2] - c[2])) > 1e-4  # the viscosity changes the plastic increments
+
+
+MU_I_CFG = MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3,
+                          mu_i=MuIConfig(grain_diameter=1e-3, grain_density=1100.0, delta_mu=0.26, i0=0.279))
+MU_I = material_from_config(MU_I_CFG)
+
+
+def taichi_mu_i_update(sigma, s_yy, L, rho, dt, prm):
+    return taichi_update(sigma, s_yy, L, rho, dt, prm, update=mu_i_update)
+
+
+MU_I_BOTH = [mu_i_update_numpy, taichi_mu_i_update]
+
+
+def _tau(sig, s_yy, p):
+    return np.sqrt(0.5 * (((sig + p[:, None, None] * np.eye(2)) ** 2).sum(axis=(1, 2)) + (s_yy + p) ** 2))
+
+
+def test_mu_i_config_builds_its_material_and_excludes_the_viscosity():
+    assert isinstance(MU_I, MuIDruckerPrager)
+    assert MU_I.params[:4] == MAT.params and MU_I.params[6] == pytest.approx(1e-3 * 1100.0**0.5)
+    assert isinstance(material_from_config(MaterialConfig()), DruckerPragerSeparation)
+    with pytest.raises(ValueError, match="either viscosity or mu_i"):
+        MaterialConfig(viscosity=1.0, mu_i=MuIConfig())
+    with pytest.raises(ValueError, match="grain_diameter"):
+        MuIConfig(grain_diameter=0.0)
+
+
+@pytest.mark.parametrize("update", MU_I_BOTH)
+@pytest.mark.parametrize("rate", [20.0, 100.0, 400.0])
+def test_mu_i_return_stops_at_mu_of_its_own_inertial_number(update, rate):
+    """tau = (mu_s + dmu I / (I0 + I)) P with I = (dgamma/dt) d sqrt(rho_s / P), pressure kept."""
+    sigma, syy, rho = _state()
+    L = np.array([[[0.0, rate], [0.0, 0.0]]])  # simple shear: tau* above mu_s P
+    sig, s_out, dg = update(sigma, syy, L, rho, DT, MU_I.params)
+    p = pressure(sig, s_out)
+    assert p[0] == pytest.approx(1000.0, rel=1e-5)
+    inertial = dg[0] / DT * 1e-3 * np.sqrt(1100.0 / p[0])
+    assert inertial > 0
+    mu = 0.5 + 0.26 * inertial / (0.279 + inertial)
+    assert _tau(sig, s_out, p)[0] == pytest.approx(mu * p[0], rel=2e-4)
+    # the trial stress is that of the paper's law: tau* = tau + G dgamma in both
+    sig_0, syy_0, dg_0 = update(sigma, syy, L, rho, DT, MU_I.params[:4] + (0.0,) + MU_I.params[5:])
+    tau_0 = _tau(sig_0, syy_0, pressure(sig_0, syy_0))[0]
+    assert tau_0 == pytest.approx(0.5 * 1000.0, rel=1e-5)  # delta_mu = 0: the rate-independent return
+    assert _tau(sig, s_out, p)[0] + MU_I.shear_modulus * dg[0] == pytest.approx(
+        tau_0 + MU_I.shear_modulus * dg_0[0], rel=1e-5)
+
+
+def test_mu_i_friction_stays_between_mu_s_and_mu_2_and_taichi_matches_numpy():
+    sigma, syy, L, rho = _random_state(2, n=400)
+    L = L * np.geomspace(1e-2, 1e3, 400)[:, None, None]  # rates over five decades
+    a = mu_i_update_numpy(sigma, syy, L, rho, DT, MU_I.params)
+    b = taichi_mu_i_update(sigma, syy, L, rho, DT, MU_I.params)
+    for x, y in zip(a, b):
+        np.testing.assert_allclose(y, x, rtol=5e-4, atol=2e-2)
+    sig, s_out, dg = a
+    p = pressure(sig, s_out)
+    yielded = (dg > 0) & (rho >= 900.0) & (p > 0)
+    assert yielded.sum() > 50
+    ratio = _tau(sig, s_out, p)[yielded] / p[yielded]
+    assert np.all(ratio >= 0.5 * (1 - 1e-5)) and np.all(ratio <= 0.76 * (1 + 1e-5))
+    assert ratio.max() > 0.55  # the fast points carry a friction well above mu_s

@@ -20,6 +20,17 @@ class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=False)
 
 
+class MuIConfig(_Model):
+    """Inertial-number friction mu(I) = mu_s + delta_mu I / (i0 + I), I = gdot d sqrt(rho_s / P).
+    Defaults: glass beads (Jop, Forterre & Pouliquen 2006: delta_mu 0.26, I0 0.279); poppy seeds
+    (~1 mm, 1100 kg/m^3, Table S1) have no measured mu(I)."""
+
+    grain_diameter: float = Field(1.0e-3, gt=0, description="mean grain diameter d, m")
+    grain_density: float = Field(1100.0, gt=0, description="solid density of the grains rho_s, kg/m^3")
+    delta_mu: float = Field(0.26, ge=0, description="mu_2 - mu_s, the friction's rise at large I")
+    i0: float = Field(0.279, gt=0, description="inertial number I0 at which half the rise is reached")
+
+
 class MaterialConfig(_Model):
     """Drucker-Prager granular continuum with free separation (SPEC 1, Eq. 1-2)."""
 
@@ -32,11 +43,21 @@ class MaterialConfig(_Model):
         description="Pa s: viscous overstress at yield, tau = mu_s P + eta gdot (a diagnostic regularisation, "
         "not in the paper; 0 = the paper's rate-independent law)",
     )
+    mu_i: MuIConfig | None = Field(
+        None, description="inertial-number friction mu(I) at yield (not in the paper; None = the paper's "
+        "rate-independent law)",
+    )
     rho_floor_fraction: float = Field(
         0.1, gt=0, lt=1,
         description="lowest density a point dilutes to, / rho_c (a point alone in flight keeps its APIC "
         "velocity gradient, so without a floor its volume grows exponentially until it overflows)",
     )
+
+    @model_validator(mode="after")
+    def _one_rate_law(self):
+        if self.mu_i is not None and self.viscosity > 0.0:
+            raise ValueError("material: give either viscosity or mu_i, not both")
+        return self
 
     @property
     def rho_floor(self) -> float:

@@ -15,6 +15,10 @@ tau = (mu_s P + k tau*) / (1 + k) with k = eta / (G dt). It gives the flow a rat
 length, that the rate-independent law lacks (docs/results.md, "Where the 1.25 mm difference
 comes from", items 4-5).
 
+Optionally (``mu_i``; not in the paper either) the friction grows with the inertial number:
+tau = mu(I) P, mu(I) = mu_s + dmu I / (I0 + I), I = gdot d sqrt(rho_s / P), the local rheology of
+Jop, Forterre & Pouliquen (2006), returned implicitly (gdot from the return itself).
+
 with P = -tr(T)/3 (3D trace), T' = T + P I, tau = sqrt(T':T'/2), D = sym(L), W = skew(L).
 Plastic flow is incompressible (pressure is kept) and coaxial (radial return).
 The same law is written twice: a Taichi function for the solver and a NumPy function for the
@@ -31,46 +35,83 @@ from .config import MaterialConfig
 
 
 @ti.func
-def drucker_prager_update(sigma, s_yy, L, rho, dt, prm):
-    """Stress update of one point; ``prm`` = (G, lam, mu_s, rho_c) or (G, lam, mu_s, rho_c, eta).
-    Returns (sigma, s_yy, dgamma_p).
+def _return_rate_independent(tau, p, dt, prm):
+    """Yield-surface stress of the return: tau -> mu_s P, or with a 5th parameter eta the
+    overstress tau = (mu_s P + k tau*) / (1 + k), k = eta / (G dt)."""
+    tau_new = prm[2] * p
+    if ti.static(prm.n > 4):
+        k = prm[4] / (prm[0] * dt)
+        tau_new = (tau_new + k * tau) / (1.0 + k)
+    return tau_new
 
-    dgamma_p is the equivalent plastic shear strain increment (tau* - tau)/G; for
-    disconnected material (stress-free) it is the total shear strain increment dt*sqrt(2 D':D') (3D deviator).
-    Written in components (xx, xz, zz, yy): in 2D, W T - T W = w [[2 T_xz, T_zz - T_xx], [., -2 T_xz]]
-    with w = W_xz = (L_xz - L_zx)/2.
-    """
-    G, lam, mu_s, rho_c = prm[0], prm[1], prm[2], prm[3]
-    d_xx, d_zz, d_xz = L[0, 0], L[1, 1], 0.5 * (L[0, 1] + L[1, 0])
-    w = 0.5 * (L[0, 1] - L[1, 0])
-    tr_d = d_xx + d_zz
-    # Jaumann trial stress: T* = T + dt (2 G D + lam tr(D) I + W T - T W); D_yy = 0 (plane strain)
-    s_xx, s_zz, s_xz = sigma[0, 0], sigma[1, 1], sigma[0, 1]
-    rot = 2.0 * w * s_xz
-    t_xx = s_xx + dt * (2.0 * G * d_xx + lam * tr_d + rot)
-    t_zz = s_zz + dt * (2.0 * G * d_zz + lam * tr_d - rot)
-    t_xz = s_xz + dt * (2.0 * G * d_xz + w * (s_zz - s_xx))
-    t_yy = s_yy + dt * lam * tr_d
-    p = -(t_xx + t_zz + t_yy) / 3.0
-    dgamma = 0.0 * p
-    if rho < rho_c or p <= 0.0:
-        # free separation: (rho - rho_c) P = 0, disconnected material carries no stress
-        e_xx, e_zz, e_yy = d_xx - tr_d / 3.0, d_zz - tr_d / 3.0, -tr_d / 3.0  # 3D deviator of D
-        dgamma = dt * ti.sqrt(2.0 * (e_xx * e_xx + e_zz * e_zz + e_yy * e_yy + 2.0 * d_xz * d_xz))
-        t_xx, t_zz, t_xz, t_yy = 0.0, 0.0, 0.0, 0.0
+
+@ti.func
+def _return_mu_i(tau, p, dt, prm):
+    """Yield-surface stress of the return under mu(I): tau = mu(I) P, mu(I) = mu_s + dmu I / (I0 + I),
+    I = gdot d sqrt(rho_s / P), gdot = (tau* - tau) / (G dt); ``prm[4:7]`` = (dmu, I0, d sqrt(rho_s)).
+    With x = tau* - tau: a x^2 + b x - c I0 = 0, a = d sqrt(rho_s/P) / (G dt), b = I0 + a (dmu P - c),
+    c = tau* - mu_s P > 0; its positive root, written without cancellation."""
+    c = tau - prm[2] * p
+    a = prm[6] / (ti.sqrt(p) * prm[0] * dt)
+    b = prm[5] + a * (prm[4] * p - c)
+    root = ti.sqrt(b * b + 4.0 * a * c * prm[5])
+    x = 0.0 * c
+    if b > 0.0:
+        x = 2.0 * c * prm[5] / (b + root)
     else:
-        a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
-        tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
-        if tau > mu_s * p:
-            # radial return at fixed pressure: tau -> mu_s P (+ eta dgamma/dt with a 5th parameter)
-            tau_new = mu_s * p
-            if ti.static(prm.n > 4):
-                k = prm[4] / (G * dt)
-                tau_new = (tau_new + k * tau) / (1.0 + k)
-            scale = tau_new / tau
-            dgamma = (tau - tau_new) / G
-            t_xx, t_zz, t_yy, t_xz = a_xx * scale - p, a_zz * scale - p, a_yy * scale - p, t_xz * scale
-    return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
+        x = (root - b) / (2.0 * a)
+    return tau - x
+
+
+def _make_update(yield_return):
+    """The stress update of one point with the given return target ``yield_return(tau*, P, dt, prm)``."""
+
+    @ti.func
+    def update(sigma, s_yy, L, rho, dt, prm):
+        G, lam, rho_c = prm[0], prm[1], prm[3]
+        d_xx, d_zz, d_xz = L[0, 0], L[1, 1], 0.5 * (L[0, 1] + L[1, 0])
+        w = 0.5 * (L[0, 1] - L[1, 0])
+        tr_d = d_xx + d_zz
+        # Jaumann trial stress: T* = T + dt (2 G D + lam tr(D) I + W T - T W); D_yy = 0 (plane strain)
+        s_xx, s_zz, s_xz = sigma[0, 0], sigma[1, 1], sigma[0, 1]
+        rot = 2.0 * w * s_xz
+        t_xx = s_xx + dt * (2.0 * G * d_xx + lam * tr_d + rot)
+        t_zz = s_zz + dt * (2.0 * G * d_zz + lam * tr_d - rot)
+        t_xz = s_xz + dt * (2.0 * G * d_xz + w * (s_zz - s_xx))
+        t_yy = s_yy + dt * lam * tr_d
+        p = -(t_xx + t_zz + t_yy) / 3.0
+        dgamma = 0.0 * p
+        if rho < rho_c or p <= 0.0:
+            # free separation: (rho - rho_c) P = 0, disconnected material carries no stress
+            e_xx, e_zz, e_yy = d_xx - tr_d / 3.0, d_zz - tr_d / 3.0, -tr_d / 3.0  # 3D deviator of D
+            dgamma = dt * ti.sqrt(2.0 * (e_xx * e_xx + e_zz * e_zz + e_yy * e_yy + 2.0 * d_xz * d_xz))
+            t_xx, t_zz, t_xz, t_yy = 0.0, 0.0, 0.0, 0.0
+        else:
+            a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
+            tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
+            if tau > prm[2] * p:
+                # radial return at fixed pressure: tau -> the yield stress (mu_s P, or with a rate)
+                tau_new = yield_return(tau, p, dt, prm)
+                scale = tau_new / tau
+                dgamma = (tau - tau_new) / G
+                t_xx, t_zz, t_yy, t_xz = a_xx * scale - p, a_zz * scale - p, a_yy * scale - p, t_xz * scale
+        return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
+
+    return update
+
+
+drucker_prager_update = _make_update(_return_rate_independent)
+drucker_prager_update.__doc__ = """Stress update of one point; ``prm`` = (G, lam, mu_s, rho_c) or (G, lam, mu_s, rho_c, eta).
+Returns (sigma, s_yy, dgamma_p).
+
+dgamma_p is the equivalent plastic shear strain increment (tau* - tau)/G; for
+disconnected material (stress-free) it is the total shear strain increment dt*sqrt(2 D':D') (3D deviator).
+Written in components (xx, xz, zz, yy): in 2D, W T - T W = w [[2 T_xz, T_zz - T_xx], [., -2 T_xz]]
+with w = W_xz = (L_xz - L_zx)/2.
+"""
+mu_i_update = _make_update(_return_mu_i)
+mu_i_update.__doc__ = """Stress update of one point under mu(I); ``prm`` = (G, lam, mu_s, rho_c, dmu, I0, d sqrt(rho_s)).
+Same returns as :func:`drucker_prager_update`."""
 
 
 def drucker_prager_update_numpy(
@@ -92,8 +133,38 @@ def drucker_prager_update_numpy(
     dt : time step, s.
     prm : (G, lam, mu_s, rho_c) in Pa, Pa, -, kg/m^3, and optionally the viscosity eta, Pa s.
     """
+    return _update_numpy(sigma, s_yy, L, rho, dt, prm, _return_rate_independent_numpy)
+
+
+def mu_i_update_numpy(
+    sigma: np.ndarray, s_yy: np.ndarray, L: np.ndarray, rho: np.ndarray, dt: float, prm: tuple[float, ...],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Vectorised NumPy twin of :func:`mu_i_update`; ``prm`` = (G, lam, mu_s, rho_c, dmu, I0, d sqrt(rho_s))
+    in Pa, Pa, -, kg/m^3, -, -, m sqrt(kg/m^3); the rest as :func:`drucker_prager_update_numpy`."""
+    return _update_numpy(sigma, s_yy, L, rho, dt, prm, _return_mu_i_numpy)
+
+
+def _return_rate_independent_numpy(tau, p, dt, prm):
+    """NumPy twin of :func:`_return_rate_independent`."""
+    k = prm[4] / (prm[0] * dt) if len(prm) > 4 else 0.0
+    return (prm[2] * p + k * tau) / (1.0 + k)
+
+
+def _return_mu_i_numpy(tau, p, dt, prm):
+    """NumPy twin of :func:`_return_mu_i` (any P > 0; points below yield get c <= 0, masked later)."""
+    G, mu_s, dmu, i0, d_sqrt_rho = prm[0], prm[2], prm[4], prm[5], prm[6]
+    c = np.maximum(tau - mu_s * p, 0.0)
+    a = d_sqrt_rho / (np.sqrt(np.maximum(p, 1e-30)) * G * dt)
+    b = i0 + a * (dmu * p - c)
+    root = np.sqrt(b * b + 4.0 * a * c * i0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(b > 0.0, 2.0 * c * i0 / (b + root), (root - b) / (2.0 * a))
+    return tau - x
+
+
+def _update_numpy(sigma, s_yy, L, rho, dt, prm, yield_return):
+    """The NumPy stress update with the return target ``yield_return(tau*, P, dt, prm)``."""
     G, lam, mu_s, rho_c = prm[:4]
-    k = prm[4] / (G * dt) if len(prm) > 4 else 0.0
     D = 0.5 * (L + np.swapaxes(L, 1, 2))
     W = 0.5 * (L - np.swapaxes(L, 1, 2))
     tr_d = D[:, 0, 0] + D[:, 1, 1]
@@ -107,7 +178,7 @@ def drucker_prager_update_numpy(
     dev_yy = syy + p
     tau = np.sqrt(0.5 * ((dev * dev).sum(axis=(1, 2)) + dev_yy**2))
     yielding = tau > mu_s * p
-    tau_new = (mu_s * p + k * tau) / (1.0 + k)
+    tau_new = yield_return(tau, p, dt, prm)
     scale = np.where(yielding, tau_new / np.where(tau > 0, tau, 1.0), 1.0)
     dgamma = np.where(yielding, (tau - tau_new) / G, 0.0)
     sig = dev * scale[:, None, None] - p[:, None, None] * eye
@@ -151,6 +222,42 @@ class DruckerPragerSeparation:
         return base + (self.viscosity,) if self.viscosity > 0.0 else base
 
 
+@dataclass(frozen=True)
+class MuIDruckerPrager:
+    """Material object: Drucker-Prager with free separation whose friction grows with the inertial
+    number, mu(I) = mu_s + dmu I / (I0 + I), I = gdot d sqrt(rho_s / P) (Jop, Forterre & Pouliquen
+    2006). Not in the paper, which argues I stays small under intruders; here to test that claim
+    and whether a grain-scale rate makes the MPM converge in cell size."""
+
+    shear_modulus: float
+    lame_lambda: float
+    mu_s: float
+    rho_c: float
+    delta_mu: float
+    i0: float
+    grain_diameter: float
+    grain_density: float
+
+    taichi_update = staticmethod(mu_i_update)
+    numpy_update = staticmethod(mu_i_update_numpy)
+
+    @property
+    def params(self) -> tuple[float, ...]:
+        """(G, lam, mu_s, rho_c, dmu, I0, d sqrt(rho_s)) in the order :func:`mu_i_update` expects."""
+        return (self.shear_modulus, self.lame_lambda, self.mu_s, self.rho_c, self.delta_mu, self.i0,
+                self.grain_diameter * self.grain_density**0.5)
+
+
+def material_from_config(cfg: MaterialConfig) -> DruckerPragerSeparation | MuIDruckerPrager:
+    """The material object of a config: the paper's law (optionally viscous), or mu(I) when
+    ``cfg.mu_i`` is given."""
+    if cfg.mu_i is None:
+        return DruckerPragerSeparation.from_config(cfg)
+    m = cfg.mu_i
+    return MuIDruckerPrager(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, m.delta_mu, m.i0,
+                            m.grain_diameter, m.grain_density)
+
+
 def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
     """P = -tr(sigma)/3 with the out-of-plane component, Pa."""
     return -(sigma[..., 0, 0] + sigma[..., 1, 1] + s_yy) / 3.0
@@ -159,10 +266,10 @@ def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
 _BATCH_KERNELS: dict = {}
 
 
-def stress_update_kernel(n_params: int = 4):
-    """A kernel applying :func:`drucker_prager_update` in place to arrays of points, for a
-    parameter vector of length ``n_params`` (tests, diagnostics)."""
-    if n_params not in _BATCH_KERNELS:
+def stress_update_kernel(n_params: int = 4, update=drucker_prager_update):
+    """A kernel applying ``update`` (:func:`drucker_prager_update` by default) in place to arrays
+    of points, for a parameter vector of length ``n_params`` (tests, diagnostics)."""
+    if (update, n_params) not in _BATCH_KERNELS:
 
         @ti.kernel
         def stress_update_batch(
@@ -171,13 +278,13 @@ def stress_update_kernel(n_params: int = 4):
             prm: ti.types.vector(n_params, float),
         ):
             for p in range(sigma.shape[0]):
-                sig, syy, dg = drucker_prager_update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
+                sig, syy, dg = update(sigma[p], s_yy[p], L[p], rho[p], dt, prm)
                 sigma[p] = sig
                 s_yy[p] = syy
                 dgamma[p] = dg
 
-        _BATCH_KERNELS[n_params] = stress_update_batch
-    return _BATCH_KERNELS[n_params]
+        _BATCH_KERNELS[(update, n_params)] = stress_update_batch
+    return _BATCH_KERNELS[(update, n_params)]
 
 
 stress_update_batch = stress_update_kernel(4)

@@ -16,7 +16,7 @@ from .backend import ensure_initialized
 from .bed import build_bed
 from .boundaries import Walls
 from .config import MPMConfig, PrescribedMotion
-from .constitutive import DruckerPragerSeparation, pressure
+from .constitutive import material_from_config, pressure
 from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
@@ -66,7 +66,7 @@ class Solver:
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks)
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
-        self.material = DruckerPragerSeparation.from_config(cfg.material)
+        self.material = material_from_config(cfg.material)
         self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
         self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band) for o in cfg.obstacles]
