@@ -127,6 +127,18 @@ def test_t_max_reaches_the_run_settings_and_one_inside_the_settling_time_is_refu
     assert r.exit_code == 2 and "t_max must exceed ramp_time + settle_time" in r.output
 
 
+def test_mu_i_reaches_the_material_and_a_bad_diameter_is_refused():
+    from intrusim.cli_mpm import _case
+    from intrusim.scenarios.mpm_locomotion import mpm_config
+
+    case = _case("wheel", True, None, None, None, mu_i_diameter=2e-3)
+    material = mpm_config(case.scenario, case.mpm, 30.0).material
+    assert material.mu_i.grain_diameter == 2e-3 and material.mu_i.grain_density == 1100.0
+    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).material.mu_i is None
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--mu-i-diameter", "0"])
+    assert r.exit_code == 2 and "mu_i_diameter must be > 0" in r.output
+
+
 def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it(tmp_path):
     """`mpm steady --out` writes result.json (a sweep on that folder reuses the run); the same
     folder with another configuration is refused (exit 2) and the finished run is left as it was."""
