@@ -40,10 +40,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.sweep import SweepResult  # noqa: E402
-from intrusim.params import GRAVITY  # noqa: E402
+from intrusim.params import GRAVITY, RPM  # noqa: E402
 from intrusim.scenarios import LOCOMOTORS  # noqa: E402
 
-RPM = 2.0 * math.pi / 60.0
 FIELDS = ("source", "label", "fit", "omega_rpm", "radius", "velocity", "sinkage", "slip", "slip_speed", "x",
           "dh", "dh_median", "drop_ok", "dh_identity", "dh_slip_law")  # fmt: skip
 FAILED_BELOW = -5e-3  # m: a rear drop this far above the surface is a failed measurement

@@ -14,11 +14,10 @@ from intrusim._checks import InputError
 from intrusim.forces import make_force_model
 from intrusim.geometry import grousered_wheel
 from intrusim.kinematics import BodyState
-from intrusim.params import table_s1
+from intrusim.params import RPM, table_s1
 
 app = typer.Typer(help="intrusim: granular intrusion with MPM, RFT and Dynamic RFT.", no_args_is_help=True)
 
-RPM = 2 * np.pi / 60  # rad/s per RPM
 
 
 @app.callback()

@@ -29,6 +29,7 @@ from intrusim.figures_mpm import (  # noqa: E402
     MPM_WHEEL_RPM_QUICK,
     with_mpm,
 )
+from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import (  # noqa: E402
     LocomotorScenario,
     drag_force_table,
@@ -42,7 +43,6 @@ WHEEL_RPM = np.arange(10.0, 91.0, 10.0)  # Fig 4-5, S1: 10-90 RPM
 WHEEL_RPM_QUICK = np.array([10.0, 30.0, 60.0, 90.0])
 RUNNER_RPM = np.array([10, 25, 50, 75, 100, 125, 150, 200, 250, 300], float)  # Fig 7: 10-300 RPM
 RUNNER_RPM_QUICK = np.array([10.0, 50.0, 100.0, 200.0, 300.0])
-RPM = 2 * np.pi / 60
 
 
 def _quick(s: LocomotorScenario, quick: bool) -> LocomotorScenario:

@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
+from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
 
@@ -30,7 +31,6 @@ MPM_WHEEL_RPM_QUICK = np.array([10.0, 30.0, 50.0, 70.0, 90.0])
 MPM_SMALL_WHEEL_RPM = np.array([30.0, 90.0])
 MPM_RUNNER_RPM = np.array([20.0, 50.0, 100.0, 150.0, 200.0, 300.0])
 MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
-RPM = 2 * np.pi / 60
 
 
 def runs_root(runs: Path | None, quick: bool) -> Path:

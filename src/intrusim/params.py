@@ -5,12 +5,14 @@ The TOML files in ``intrusim/data`` are copies of ``shared/reference``; SI units
 
 from __future__ import annotations
 
+import math
 import tomllib
 from functools import lru_cache
 from importlib import resources
 from typing import Any
 
 GRAVITY = 9.8  # m/s^2, Table S1 (printed as "9.8 kg/m^2")
+RPM = 2.0 * math.pi / 60.0  # rad/s per RPM
 
 
 @lru_cache(maxsize=None)

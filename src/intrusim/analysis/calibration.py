@@ -32,11 +32,10 @@ from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from intrusim.analysis.sweep import SweepResult, dask_map, sweep_omega
-from intrusim.params import GRAVITY
+from intrusim.params import GRAVITY, RPM
 from intrusim.scenarios.base import ForceModelConfig
 from intrusim.scenarios.locomotor import LocomotorScenario
 
-RPM = 2.0 * math.pi / 60.0  # rad/s per RPM
 
 
 @dataclass(frozen=True)
