@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from intrusim.analysis.steady import interval_means
 from intrusim.mpm.config import MPMConfig, MuIConfig, PrescribedMotion
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
@@ -95,11 +96,11 @@ def run(args: argparse.Namespace) -> None:
 def window_means(t: np.ndarray, window: float) -> dict[str, float]:
     """Mean force, moment and their ahead parts over the last ``window`` seconds of a time series."""
     t_end = float(t["time"][-1])
-    sel = t["time"] > t_end - window + 1e-9
     cols = ("fx", "fz", "moment", "fx_ahead", "fz_ahead", "moment_ahead")
-    row = {c: float(np.mean(t[c][sel])) for c in cols}
-    half = t["time"] > t_end - 0.5 * window + 1e-9
-    row["fx_last_half"], row["fz_last_half"] = float(np.mean(t["fx"][half])), float(np.mean(t["fz"][half]))
+    # the samples after t_end - window (spaced 0.01 s: none within 2e-9 s of it)
+    row = interval_means(t["time"], {c: t[c] for c in cols}, t_end - window + 2e-9, t_end)
+    half = interval_means(t["time"], {c: t[c] for c in ("fx", "fz")}, t_end - 0.5 * window + 2e-9, t_end)
+    row["fx_last_half"], row["fz_last_half"] = half["fx"], half["fz"]
     row["t_end"] = t_end
     return row
 

@@ -4,7 +4,9 @@ import numpy as np
 import pytest
 
 from intrusim._checks import InputError
-from intrusim.analysis.steady import NoContactError, outline_sinkage, run_steady, steady_state, window_means
+from intrusim.analysis.steady import (
+    NoContactError, interval_means, outline_sinkage, run_steady, steady_state, window_means,
+)
 from intrusim.bodies import Drive, IntegratorSettings, RigidBody, simulate
 from intrusim.geometry import circle, polygon_shape
 from intrusim.kinematics import BodyState
@@ -43,6 +45,15 @@ def test_body_that_never_touches_is_reported():
     tr = simulate(air, body, Drive(-3.0, 0.1), BodyState(z=0.5), 6.0, IntegratorSettings(dt=1e-2))
     with pytest.raises(NoContactError, match="never touched"):
         steady_state(tr, shape, 2)
+
+
+def test_interval_means_take_the_samples_of_a_closed_window_despite_rounded_times():
+    t = 0.1 * np.arange(10)  # 0.30000000000000004 and 0.7000000000000001 among them
+    v = np.arange(10.0)
+    assert interval_means(t, {"v": v, "twice": 2 * v}, 0.3, 0.7) == {"v": 5.0, "twice": 10.0}
+    assert interval_means(t, {"v": v}, 0.31, 0.69) == {"v": 5.0}
+    with pytest.raises(InputError, match="no sample in the window"):
+        interval_means(t, {"v": v}, 0.91, 1.5)
 
 
 def test_window_means_average_each_window_and_skip_empty_ones():

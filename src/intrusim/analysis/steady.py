@@ -129,6 +129,16 @@ def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[
     return rows
 
 
+def interval_means(time: Any, columns: dict[str, Any], t0: float, t1: float, tol: float = 1e-9) -> dict[str, float]:
+    """Means of ``columns`` over the samples with t0 - tol <= time <= t1 + tol (sample times carry
+    rounding: 0.30000000000000004 belongs to a window that starts at 0.3)."""
+    t = np.asarray(time, float)
+    sel = (t >= t0 - tol) & (t <= t1 + tol)
+    if not sel.any():
+        raise InputError(f"no sample in the window [{t0:g}, {t1:g}] s (the series spans {t.min():g}-{t.max():g} s)")
+    return {name: float(np.mean(np.asarray(c, float)[sel])) for name, c in columns.items()}
+
+
 def window_drift(velocity: Any, sinkage: Any, radius: float) -> float:
     """How far a steady-state window is from steady: the larger of the change of the mean velocity
     between its two halves, relative to the window's mean velocity, and the change of the mean
