@@ -167,7 +167,7 @@ def test_mu_i_config_builds_its_material_and_excludes_the_viscosity():
     assert isinstance(MU_I, MuIDruckerPrager)
     assert MU_I.params[:4] == MAT.params and MU_I.params[6] == pytest.approx(1e-3 * 1100.0**0.5)
     assert isinstance(material_from_config(MaterialConfig()), DruckerPragerSeparation)
-    with pytest.raises(ValueError, match="either viscosity or mu_i"):
+    with pytest.raises(ValueError, match="one rate law of viscosity, mu_i and fluidity, not viscosity and mu_i"):
         MaterialConfig(viscosity=1.0, mu_i=MuIConfig())
     with pytest.raises(ValueError, match="grain_diameter"):
         MuIConfig(grain_diameter=0.0)

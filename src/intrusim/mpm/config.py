@@ -31,6 +31,19 @@ class MuIConfig(_Model):
     i0: float = Field(0.279, gt=0, description="inertial number I0 at which half the rise is reached")
 
 
+class FluidityConfig(_Model):
+    """Nonlocal granular fluidity (Henann & Kamrin 2013): gdot_p = g mu, A^2 d^2 lap g = |mu - mu_s| (g - g_loc),
+    g_loc = sqrt(P / (rho_s d^2)) (mu - mu_s) / (b mu). Defaults: glass beads' A 0.48 and b 0.9375
+    (Henann & Kamrin 2013) with poppy seeds' ~1 mm and 1100 kg/m^3 (Table S1); poppy seeds' A and b are
+    not measured."""
+
+    grain_diameter: float = Field(1.0e-3, gt=0, description="mean grain diameter d, m")
+    grain_density: float = Field(1100.0, gt=0, description="solid density of the grains rho_s, kg/m^3")
+    amplitude: float = Field(0.48, gt=0, description="nonlocal amplitude A: cooperativity length xi = A d / sqrt(|mu - mu_s|)")
+    b: float = Field(0.9375, gt=0, description="local rheology mu = mu_s + b I")
+    sweep_pairs: int = Field(2, ge=1, le=50, description="pairs of Jacobi sweeps of the fluidity per step (warm-started)")
+
+
 class MaterialConfig(_Model):
     """Drucker-Prager granular continuum with free separation (SPEC 1, Eq. 1-2)."""
 
@@ -47,6 +60,10 @@ class MaterialConfig(_Model):
         None, description="inertial-number friction mu(I) at yield (not in the paper; None = the paper's "
         "rate-independent law)",
     )
+    fluidity: FluidityConfig | None = Field(
+        None, description="nonlocal granular fluidity in place of the Drucker-Prager return (not in the paper; "
+        "None = the paper's rate-independent law)",
+    )
     rho_floor_fraction: float = Field(
         0.1, gt=0, lt=1,
         description="lowest density a point dilutes to, / rho_c (a point alone in flight keeps its APIC "
@@ -55,8 +72,10 @@ class MaterialConfig(_Model):
 
     @model_validator(mode="after")
     def _one_rate_law(self):
-        if self.mu_i is not None and self.viscosity > 0.0:
-            raise ValueError("material: give either viscosity or mu_i, not both")
+        given = [name for name, on in (("viscosity", self.viscosity > 0.0), ("mu_i", self.mu_i is not None),
+                                       ("fluidity", self.fluidity is not None)) if on]
+        if len(given) > 1:
+            raise ValueError(f"material: give one rate law of viscosity, mu_i and fluidity, not {' and '.join(given)}")
         return self
 
     @property

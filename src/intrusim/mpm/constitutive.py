@@ -248,9 +248,49 @@ class MuIDruckerPrager:
                 self.grain_diameter * self.grain_density**0.5)
 
 
-def material_from_config(cfg: MaterialConfig) -> DruckerPragerSeparation | MuIDruckerPrager:
-    """The material object of a config: the paper's law (optionally viscous), or mu(I) when
-    ``cfg.mu_i`` is given."""
+@dataclass(frozen=True)
+class NonlocalFluidity:
+    """Material object: nonlocal granular fluidity with free separation (``intrusim.mpm.fluidity``).
+    Its G2P update is the elastic trial with free separation (a Drucker-Prager friction that never
+    yields); the solver adds the fluidity kernels around it."""
+
+    shear_modulus: float
+    lame_lambda: float
+    mu_s: float
+    rho_c: float
+    amplitude: float
+    b: float
+    grain_diameter: float
+    grain_density: float
+    sweep_pairs: int
+
+    taichi_update = staticmethod(drucker_prager_update)
+
+    @property
+    def params(self) -> tuple[float, ...]:
+        """(G, lam, NO_YIELD, rho_c): the elastic trial and free separation of :func:`drucker_prager_update`."""
+        from .fluidity import NO_YIELD
+
+        return (self.shear_modulus, self.lame_lambda, NO_YIELD, self.rho_c)
+
+    @property
+    def fluidity_params(self) -> tuple[float, float, float, float]:
+        """(mu_s, b, d, rho_s) in the order ``fluidity_sources`` expects."""
+        return (self.mu_s, self.b, self.grain_diameter, self.grain_density)
+
+    @property
+    def relax_params(self) -> tuple[float, float, float, float, float]:
+        """(G, mu_s, b, d, rho_s) in the order ``fluidity_relax`` expects."""
+        return (self.shear_modulus, *self.fluidity_params)
+
+
+def material_from_config(cfg: MaterialConfig) -> DruckerPragerSeparation | MuIDruckerPrager | NonlocalFluidity:
+    """The material object of a config: the paper's law (optionally viscous), mu(I) when
+    ``cfg.mu_i`` is given, the nonlocal fluidity when ``cfg.fluidity`` is."""
+    if cfg.fluidity is not None:
+        f = cfg.fluidity
+        return NonlocalFluidity(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, f.amplitude, f.b,
+                                f.grain_diameter, f.grain_density, f.sweep_pairs)
     if cfg.mu_i is None:
         return DruckerPragerSeparation.from_config(cfg)
     m = cfg.mu_i

@@ -16,11 +16,12 @@ from .backend import ensure_initialized
 from .bed import build_bed
 from .boundaries import Walls
 from .config import MPMConfig, PrescribedMotion
-from .constitutive import material_from_config, pressure
+from .constitutive import NonlocalFluidity, material_from_config, pressure
 from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
+from .fluidity import FluidityField, fluidity_jacobi, fluidity_relax, fluidity_sources
 from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import Particles
@@ -30,6 +31,7 @@ from . import io as mpm_io
 from intrusim._checks import InputError
 
 STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's grid field
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
 
 
@@ -85,6 +87,7 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
+        self.fluidity = FluidityField(self.grid.shape) if isinstance(self.material, NonlocalFluidity) else None
         # by the obstacles still in place: the step's launches, the obstacles' (constant) box
         # and pose values, and its graph once compiled
         self._plans: dict[tuple[bool, ...], tuple[list[Launch], dict]] = {}
@@ -120,6 +123,14 @@ class Solver:
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
         )))
+        if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
+            f, m = self.fluidity, self.material
+            kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
+            launches[:0] = [Launch(fluidity_sources, (p.x, p.mass, p.sigma, p.s_yy, f.parts, f.src, g.h, g.pad,
+                                                       m.fluidity_params))]
+            launches[1:1] = [Launch(fluidity_jacobi, (f.src, f.g, f.g_tmp, kappa))] * m.sweep_pairs
+            launches.append(Launch(fluidity_relax, (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.src, f.g, g.h, g.pad, dt,
+                                                    m.relax_params)))
         return launches
 
     def step(self) -> None:
@@ -280,7 +291,10 @@ class Solver:
             "impulse_mark_ahead": [a.tolist() for a in self._impulse_mark_ahead],
         }
         path.parent.mkdir(parents=True, exist_ok=True)
-        mpm_io.save_checkpoint(path, self.particles.to_numpy(), meta)
+        arrays = self.particles.to_numpy()
+        if self.fluidity is not None:  # the warm start of the next step's sweeps
+            arrays[FLUIDITY_KEY] = self.fluidity.to_numpy()
+        mpm_io.save_checkpoint(path, arrays, meta)
         if self.run_dir is not None and path.parent == self.run_dir:
             mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
 
@@ -292,6 +306,10 @@ class Solver:
         """Restore a checkpoint already read (``mpm.io.load_checkpoint``; same config)."""
         if not math.isclose(meta["dt"], self.dt, rel_tol=1e-12):
             raise ValueError(f"checkpoint dt {meta['dt']} differs from this config's dt {self.dt}")
+        arrays = dict(arrays)
+        grid_fluidity = arrays.pop(FLUIDITY_KEY, None)
+        if self.fluidity is not None and grid_fluidity is not None:
+            self.fluidity.load(grid_fluidity)
         self.particles.load(arrays)
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
