@@ -15,8 +15,8 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
-          t_max: float | None = None, mu_i_diameter: float | None = None):
-    from intrusim.mpm.config import MuIConfig
+          t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None):
+    from intrusim.mpm.config import FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -45,6 +45,12 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
         if not mu_i_diameter > 0:
             raise InputError(f"mu_i_diameter must be > 0 m, got {mu_i_diameter!r}")
         settings = settings.model_copy(update=dict(mu_i=MuIConfig(grain_diameter=float(mu_i_diameter))))
+    if fluidity_diameter is not None:
+        if not fluidity_diameter > 0:
+            raise InputError(f"fluidity_diameter must be > 0 m, got {fluidity_diameter!r}")
+        if mu_i_diameter is not None:
+            raise InputError("give one of mu_i_diameter and fluidity_diameter, not both")
+        settings = settings.model_copy(update=dict(fluidity=FluidityConfig(grain_diameter=float(fluidity_diameter))))
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
@@ -68,10 +74,11 @@ def steady(
     t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
+    fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -114,6 +121,7 @@ def sweep(
     length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
     t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
+    fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -122,7 +130,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

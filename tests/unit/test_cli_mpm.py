@@ -127,7 +127,7 @@ def test_t_max_reaches_the_run_settings_and_one_inside_the_settling_time_is_refu
     assert r.exit_code == 2 and "t_max must exceed ramp_time + settle_time" in r.output
 
 
-def test_mu_i_reaches_the_material_and_a_bad_diameter_is_refused():
+def test_mu_i_and_fluidity_reach_the_material_and_bad_diameters_are_refused():
     from intrusim.cli_mpm import _case
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
@@ -137,6 +137,12 @@ def test_mu_i_reaches_the_material_and_a_bad_diameter_is_refused():
     assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).material.mu_i is None
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--mu-i-diameter", "0"])
     assert r.exit_code == 2 and "mu_i_diameter must be > 0" in r.output
+    case = _case("wheel", True, None, None, None, fluidity_diameter=1e-3)
+    assert mpm_config(case.scenario, case.mpm, 30.0).material.fluidity.grain_diameter == 1e-3
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--fluidity-diameter", "-1"])
+    assert r.exit_code == 2 and "fluidity_diameter must be > 0" in r.output
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--fluidity-diameter", "1e-3", "--mu-i-diameter", "1e-3"])
+    assert r.exit_code == 2 and "not both" in r.output
 
 
 def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it(tmp_path):

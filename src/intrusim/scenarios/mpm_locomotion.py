@@ -33,7 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
-from intrusim.mpm.config import MuIConfig
+from intrusim.mpm.config import FluidityConfig, MuIConfig
 from intrusim.mpm.io import atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
@@ -55,6 +55,7 @@ class MPMSettings(Config):
     mu_w : body-grain friction (Table S1: 0.35).
     youngs_modulus, poisson_ratio : numerical elastic stiffness (the paper does not give it).
     mu_i : inertial-number friction mu(I) (not the paper's law); None: the paper's rate-independent friction.
+    fluidity : nonlocal granular fluidity in place of the Drucker-Prager return (not the paper's law).
     forward_force : N, constant forward push (rig-friction compensation). None (the wheel's
         default): Table S1's 4 N scaled by the body's horizontal inertia over the Table S1 wheel's
         23.0 kg, since rig friction scales with the carried mass (small wheel: 0.5 N); runner: 0.
@@ -82,6 +83,7 @@ class MPMSettings(Config):
     youngs_modulus: float = Field(1.0e6, gt=0.0)
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5)
     mu_i: MuIConfig | None = None
+    fluidity: FluidityConfig | None = None
     forward_force: float | None = None
     ramp_time: float = Field(0.15, ge=0.0)
     settle_time: float = Field(0.5, ge=0.0)
@@ -195,7 +197,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
     return MPMConfig(
         domain=DomainConfig(size=s.domain, cells=s.cells, particles_per_cell=s.particles_per_cell),
         material=MaterialConfig(rho_c=s.rho_c, mu_s=s.mu_s, youngs_modulus=s.youngs_modulus, poisson_ratio=s.poisson_ratio,
-                                mu_i=s.mu_i),
+                                mu_i=s.mu_i, fluidity=s.fluidity),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=s.domain[0], z1=s.bed_depth)]),
         intruders=[IntruderConfig(
             vertices=outline.tolist(), width=scenario.width, mu_w=s.mu_w, x=s.start_x, z=z0,
