@@ -10,6 +10,8 @@ with separation, walls) it prints, all measured in the same run:
 * a memory-bandwidth bound: the bytes one step must move at least (particle state read by P2G
   and G2P and written back by G2P, grid arrays written and read once) divided by the copy
   bandwidth of this machine (the faster of a Taichi copy kernel on the same threads and memcpy),
+* optionally (``--rate-laws``) the step with the mu(I) friction and with the nonlocal fluidity
+  (not the paper's law), as a ratio to the paper's law's step,
 * optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
   (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
   from a short run.
@@ -90,12 +92,20 @@ def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
     return 2 * n * 4 / best
 
 
-def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True):
+RATE_LAWS = {  # --rate-laws: the options that are not the paper's law, against it in the same run
+    "mu(I)": {"mu_i": {"grain_diameter": 1e-3}},
+    "nonlocal fluidity": {"fluidity": {"grain_diameter": 1e-3}},
+}
+
+
+def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True,
+               material: dict | None = None):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
     cfg = MPMConfig(
         domain=DomainConfig(size=domain, cells=cells),
+        material=material or {},
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
         backend=dict(arch=arch, step_graph=step_graph, **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
     )
@@ -164,7 +174,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02) -> dict
             "wall_s_per_physical_s": per_step / solver.dt}
 
 
-def measure(threads, arch: str, wheel: bool, numpy_baseline: bool) -> dict:
+def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bool = False) -> dict:
     """All figures for one thread count (this process initialises Taichi)."""
     from intrusim.mpm.backend import ensure_initialized
 
@@ -196,6 +206,9 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool) -> dict:
         direct = bed_solver(domain, cells, bed, arch, step_graph=False)
         row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
         del direct
+        if rate_laws:  # each rate law's step (all its kernels run on the resting bed too)
+            row["rate_laws_ms_per_step"] = {
+                name: time_steps(bed_solver(domain, cells, bed, arch, material=m)) * 1e3 for name, m in RATE_LAWS.items()}
     if wheel:
         out["wheel"] = wheel_seconds_per_physical_second(arch)
     return out
@@ -208,13 +221,14 @@ def main() -> None:
     ap.add_argument("--wheel", action="store_true", help="also time the paper-resolution wheel run")
     ap.add_argument("--no-numpy", action="store_true", help="skip the (slow) NumPy baseline")
     ap.add_argument("--repeat", type=int, default=1, help="run the whole benchmark this many times and summarise")
+    ap.add_argument("--rate-laws", action="store_true", help="also time the step with mu(I) and with the nonlocal fluidity")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {args.repeat}")
     if args.child is not None:
         threads = None if args.child == "all" else int(args.child)
-        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy)))
+        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy, args.rate_laws)))
         return
     runs = []
     for k in range(args.repeat):
@@ -223,6 +237,7 @@ def main() -> None:
             cmd = [sys.executable, __file__, "--child", t, "--arch", args.arch]
             cmd += ["--wheel"] if args.wheel else []
             cmd += ["--no-numpy"] if args.no_numpy else []
+            cmd += ["--rate-laws"] if args.rate_laws else []
             env = {**os.environ, "INTRUSIM_TI_THREADS": ""}
             proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
             if proc.returncode != 0:
@@ -278,6 +293,11 @@ def report(results: list[dict], arch: str) -> None:
         for label, c in r["cases"].items():
             print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
                   f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph")
+    for r in results:
+        for label, c in r["cases"].items():
+            for name, ms in c.get("rate_laws_ms_per_step", {}).items():
+                print(f"{r['threads']} threads, {label}: {name} (not the paper's law) {ms:.2f} ms/step, "
+                      f"{ms / c['ms_per_step']:.2f}x the paper's law's {c['ms_per_step']:.2f}")
     for r in results:
         print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
               f"memcpy {r['memcpy_GBs']:.1f} GB/s (bytes read + written per second)")
