@@ -15,13 +15,20 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
 * the 50th, 90th and 99th percentiles of gdot_p over the points around the wheel that shear
   faster than 1/s, snapshot by snapshot, averaged over the window (the fastest shear, which
   grows as the bands thin), and the area shearing faster than 1 and 10 /s;
+* the inertial number I = gdot_p d sqrt(rho_s / P) of the same points (poppy seeds: d = 1 mm,
+  rho_s = 1100 kg/m^3, Table S1), 50th, 90th and 99th percentiles: the paper argues I stays small
+  under intruders, so that a mu(I) law would change little;
 * the mean force on the wheel over the same window (timeseries.csv).
 
     python examples/mpm_fixed_state.py run --cell-mm 2.5 --z 0.2102 --vx 0.148 --rpm 30 --smooth \\
         --t-max 0.5 --snapshot-every 0.025 --out runs/shear          # and 5, 1.25 mm; without --smooth
     python examples/mpm_fixed_state.py run --cell-mm 0.625 ... --smooth --t-max 0.4 --domain 0.45 0.4 \\
         --snapshot-every 0.025 --out runs/shear_small                 # and 1.25 mm, the same box
-    python examples/shear_layer.py runs/shear runs/shear_small --out docs/figures/shear_layer
+    python examples/mpm_fixed_state.py run ... --viscosity 10 --out runs/shear_visc       # the rate laws
+    python examples/mpm_fixed_state.py run ... --mu-i-diameter 1e-3 --out runs/shear_mui  # (5, 2.5, 1.25 mm,
+    python examples/mpm_fixed_state.py run ... --fluidity-diameter 1e-3 --out runs/shear_ngf  # grousered)
+    python examples/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \
+        --out docs/figures/shear_layer
 
 Writes NAME.csv (one row per run), NAME_profiles.csv (the binned profiles), NAME.png (profiles,
 widths and the 99th percentile against the cell size) and NAME_fields.png (gdot_p around the
@@ -34,10 +41,13 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
 
+from intrusim.analysis.steady import interval_means
+from intrusim.params import table_s1
 from intrusim.scenarios import grousered_wheel_scenario
 
 META = "fixed_state.json"
@@ -46,7 +56,15 @@ DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
 FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
 FLOW_RATES = (1.0, 10.0)  # 1/s: the area of grains shearing faster than each (cm^2 per m of width)
 PERCENTILES = (50.0, 90.0, 99.0)  # of gdot_p over the points near the wheel shearing faster than 1/s
+GRAIN_DIAMETER = 1.0e-3  # m, poppy seeds (~1 mm; not in Table S1)
+GRAIN_DENSITY = table_s1()["poppy_seeds"]["grain_density"]  # kg/m^3
+LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1)), (0, (1, 3)))  # one per series in the figure
+MARKERS = "osD^vP"
 FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
+
+
+class OutsideWindow(Exception):
+    """A run without particle snapshots in the analysis window."""
 
 
 def snapshot_steps(run_dir: Path) -> list[tuple[int, Path]]:
@@ -84,7 +102,7 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     h = float(meta["cell_mm"]) * 1e-3
     edges = np.arange(DEPTH_RANGE[0], DEPTH_RANGE[1] + 0.25 * h, 0.5 * h)
     sum_u, sum_g, count = (np.zeros(len(edges) - 1) for _ in range(3))
-    used, flowing, fast, last = [], [], [], None
+    used, flowing, fast, numbers, last = [], [], [], [], None
     for step, path in snapshot_steps(run_dir):
         t = step * dt
         if not window[0] - 0.5 * dt <= t <= window[1] + 0.5 * dt or step > ts["step"][-1]:
@@ -108,42 +126,51 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         flowing.append([np.count_nonzero(gd > g) * (0.5 * h) ** 2 for g in FLOW_RATES])
         shearing = gd[gd > FLOW_RATES[0]]
         fast.append(np.percentile(shearing, PERCENTILES) if len(shearing) else np.full(len(PERCENTILES), np.nan))
+        pressure = mesh.point_data["pressure"][near][gd > FLOW_RATES[0]]
+        inertial = shearing[pressure > 0] * GRAIN_DIAMETER * np.sqrt(GRAIN_DENSITY / pressure[pressure > 0])
+        numbers.append(np.percentile(inertial, PERCENTILES) if len(inertial) else np.full(len(PERCENTILES), np.nan))
         last = {"x": x[near] - xc, "z": z[near] - zc, "gdot": gd}
         used.append(t)
     if not used:
-        raise SystemExit(f"{run_dir}: no snapshot in the window {window} s (run it with --snapshot-every)")
+        raise OutsideWindow(f"{run_dir}: no snapshot in the window {window} s (still running, or run without --snapshot-every)")
     with np.errstate(invalid="ignore", divide="ignore"):
         drag, gdot = sum_u / count, sum_g / count
     centre = 0.5 * (edges[1:] + edges[:-1])
     keep = count > 0
     centre, drag, gdot, count = centre[keep], drag[keep], gdot[keep], count[keep]
-    in_window = (ts["time"] >= window[0] - 1e-9) & (ts["time"] <= window[1] + 1e-9)
     rim_speed = abs(meta["omega_rpm"]) * np.pi / 30.0 * RIM_RADIUS - meta["vx"]  # m/s backwards, the rim's lowest point
     w90_10 = width_between(centre, drag, 0.9, 0.1)
     w75_25 = width_between(centre, drag, 0.75, 0.25)
     smooth = bool(meta.get("smooth", False))
     return {
-        "series": series_name(smooth, meta["domain"], meta.get("viscosity", 0.0)), "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
+        "series": series_name(smooth, meta["domain"], meta.get("viscosity", 0.0), meta.get("mu_i"), meta.get("fluidity")),
+        "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
         "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(meta.get("viscosity", 0.0)),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
         "snapshots": len(used), "t_first": min(used), "t_last": max(used),
         "rim_speed": rim_speed, "grain_speed_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
         "width_90_10_mm": 1e3 * w90_10, "width_90_10_cells": w90_10 / h,
         "width_75_25_mm": 1e3 * w75_25, "width_75_25_cells": w75_25 / h, "gdot_peak": float(np.max(gdot)),
-        "fx": float(np.mean(ts["fx"][in_window])), "fz": float(np.mean(ts["fz"][in_window])),
-        "moment": float(np.mean(ts["moment"][in_window])),
+        **interval_means(ts["time"], {c: ts[c] for c in ("fx", "fz", "moment")}, *window),
         **{f"area_gdot_above_{g:g}_cm2": 1e4 * a for g, a in zip(FLOW_RATES, np.mean(flowing, axis=0))},
         **{f"gdot_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(fast, axis=0))},
+        **{f"inertial_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(numbers, axis=0))},
         "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count}, "field": last,
     }
 
 
-def series_name(smooth: bool, domain, viscosity: float = 0.0) -> str:
-    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m and the
-    viscous overstress when there is one."""
+def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None = None,
+                fluidity: dict | None = None) -> str:
+    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m, and the
+    viscous overstress, the mu(I) law or the nonlocal fluidity when there is one."""
     name = "smooth rim" if smooth else "grousered"
     name += "" if tuple(domain) == (0.7, 0.4) else f", {domain[0]:g} m x {domain[1]:g} m box"
-    return name + (f", eta {viscosity:g} Pa s" if viscosity > 0.0 else "")
+    name += f", eta {viscosity:g} Pa s" if viscosity > 0.0 else ""
+    name += f", mu(I) d {1e3 * mu_i['grain_diameter']:g} mm" if mu_i else ""
+    if fluidity:
+        name += f", nonlocal d {1e3 * fluidity['grain_diameter']:g} mm"
+        name += f", {fluidity['sweep_pairs']} sweep pairs" if fluidity["sweep_pairs"] != 2 else ""
+    return name
 
 
 def power_law(h: np.ndarray, w: np.ndarray) -> tuple[float, float]:
@@ -168,8 +195,15 @@ def main() -> None:
     run_dirs = [d for d in run_dirs if snapshot_steps(d) and (d / "timeseries.csv").exists()]
     if not run_dirs:
         raise SystemExit("no fixed-state run folder with snapshots found")
-    rows = sorted((layer_profile(d, tuple(args.window), args.sector_deg) for d in run_dirs),
-                  key=lambda r: (r["series"], r["z"], r["vx_wheel"], -r["cell_mm"]))
+    rows = []
+    for d in run_dirs:
+        try:
+            rows.append(layer_profile(d, tuple(args.window), args.sector_deg))
+        except OutsideWindow as err:  # one run not there yet: the others still make the table
+            print(f"skipped {err}", file=sys.stderr)
+    if not rows:
+        raise SystemExit(f"no run has snapshots in the window {tuple(args.window)} s")
+    rows.sort(key=lambda r: (r["series"], r["z"], r["vx_wheel"], -r["cell_mm"]))
 
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -187,12 +221,12 @@ def main() -> None:
                 w.writerow([r["series"], r["cell_mm"], f"{1e3 * d:.3f}", f"{u:.6g}", f"{g:.6g}", int(n)])
 
     print("| wheel | cells (mm) | snapshots | area > 1/s, > 10/s (cm^2) | grains' max speed (m/s) | / rim speed | 90-10 width (mm) | (cells) | 75-25 width (mm) | "
-          "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | fx (N) | fz (N) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | I 50th / 99th percentile | fx (N) | fz (N) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['grain_speed_max']:.4f} | {r['grain_over_rim']:.2f} | "
               f"{r['width_90_10_mm']:.2f} | {r['width_90_10_cells']:.2f} | {r['width_75_25_mm']:.2f} | {r['width_75_25_cells']:.2f} | "
-              f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['fx']:+.2f} | {r['fz']:.2f} |")
+              f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['inertial_p50']:.2g} / {r['inertial_p99']:.2g} | {r['fx']:+.2f} | {r['fz']:.2f} |")
     fits = {}
     for series in dict.fromkeys(r["series"] for r in rows):
         sub = [r for r in rows if r["series"] == series]
@@ -219,10 +253,10 @@ def plot(rows: list[dict], fits: dict, path: Path) -> None:
     cells = sorted({r["cell_mm"] for r in rows}, reverse=True)
     fig, axes = plt.subplots(1, 4, figsize=(18, 4.6))
     for r in rows:
-        p, color, style = r["profile"], f"C{cells.index(r['cell_mm'])}", ["-", "--", ":", "-."][series.index(r["series"]) % 4]
+        p, color, style = r["profile"], f"C{cells.index(r['cell_mm'])}", LINE_STYLES[series.index(r["series"]) % len(LINE_STYLES)]
         label = f"{r['series']}, {r['cell_mm']:g} mm"
-        axes[0].plot(p["drag"], 1e3 * p["depth"], style, color=color, label=label)
-        axes[1].plot(p["gdot"], 1e3 * p["depth"], style, color=color)
+        axes[0].plot(p["drag"], 1e3 * p["depth"], linestyle=style, color=color, label=label)
+        axes[1].plot(p["gdot"], 1e3 * p["depth"], linestyle=style, color=color)
     for ax in axes[:2]:
         ax.set_ylim(40, -2)
         ax.set_ylabel("depth below the rim (mm)")
@@ -233,7 +267,7 @@ def plot(rows: list[dict], fits: dict, path: Path) -> None:
     for i, name in enumerate(series):
         sub = [r for r in rows if r["series"] == name]
         h = np.array([r["cell_mm"] for r in sub])
-        marker = "osD^"[i % 4]
+        marker = MARKERS[i % len(MARKERS)]
         for key, color, fill, ax in (("width_90_10_mm", "C0", None, axes[2]), ("width_75_25_mm", "C1", "none", axes[2]),
                                      ("gdot_p99", "C2", None, axes[3])):
             label = f"{name}: " + ("99th percentile" if key == "gdot_p99" else f"{key[6:11].replace('_', '-')} width")
