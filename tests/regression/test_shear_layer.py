@@ -106,3 +106,20 @@ def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertia
         assert float(rows[(name, h)]["fz"]) > float(rows[("grousered", h)]["fz"])
     median_i = np.array([float(r["inertial_p50"]) for r in table])
     assert len(median_i) == len(table) and np.all((median_i > 0.001) & (median_i < 0.01))
+
+
+def test_the_nonlocal_fluidity_keeps_the_layer_width_but_not_the_lift():
+    """docs/results.md item 7: with the nonlocal fluidity the dragged layer stops thinning (1 mm grains
+    -5 % from 2.5 to 1.25 mm, 3 mm grains within 3 % over 5-1.25 mm), while the lift rises 15-20 %."""
+    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
+    width = lambda name, h: float(rows[(name, h)]["width_90_10_mm"])
+    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    d1, d3 = "grousered, nonlocal d 1 mm", "grousered, nonlocal d 3 mm"
+    assert abs(width(d1, 1.25) / width(d1, 2.5) - 1.0) < 0.1  # 17.0 -> 16.1 mm
+    assert width("grousered", 1.25) / width("grousered", 2.5) < 0.8  # the paper's law: 12.9 -> 10.0 mm
+    w3 = [width(d3, h) for h in (5.0, 2.5, 1.25)]
+    assert max(w3) / min(w3) < 1.05  # 24.6, 24.2, 23.9 mm
+    for name in (d1, d3):
+        assert lift(name, 1.25) / lift(name, 2.5) - 1.0 > 0.1, name  # +15 %, +20 %: not converged
+    # the Jacobi sweeps are converged at the default 2 pairs per step (2.5 mm, 1 mm grains)
+    assert lift(d1 + ", 8 sweep pairs", 2.5) == pytest.approx(lift(d1, 2.5), rel=0.002)

@@ -36,6 +36,7 @@ from .transfer import CHUNK_SPREAD, quadratic_weights
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
+SOURCE_CHUNKS = 4  # private grid copies of the fluidity sources: a fixed summation order (no atomics)
 
 
 @ti.func
@@ -45,9 +46,6 @@ def _pressure_and_tau(sig, syy):
     a_xx, a_zz, a_yy = sig[0, 0] + p, sig[1, 1] + p, syy + p
     tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * sig[0, 1] * sig[0, 1]))
     return p, tau
-
-
-SOURCE_CHUNKS = 4  # private grid copies of the fluidity sources: a fixed summation order (no atomics)
 
 
 @ti.func
