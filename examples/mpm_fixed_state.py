@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from intrusim.analysis.steady import interval_means
-from intrusim.mpm.config import MPMConfig, MuIConfig, PrescribedMotion
+from intrusim.mpm.config import FluidityConfig, MPMConfig, MuIConfig, PrescribedMotion
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
@@ -59,6 +59,9 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     payload["material"]["viscosity"] = args.viscosity
     if args.mu_i_diameter is not None:
         payload["material"]["mu_i"] = MuIConfig(grain_diameter=args.mu_i_diameter).model_dump()
+    if args.fluidity_diameter is not None:
+        payload["material"]["fluidity"] = FluidityConfig(grain_diameter=args.fluidity_diameter,
+                                                         sweep_pairs=args.fluidity_sweep_pairs).model_dump()
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -70,6 +73,8 @@ def run(args: argparse.Namespace) -> None:
     tag += "_smooth" if args.smooth else ""
     tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
     tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
+    tag += f"_ngf{1e3 * args.fluidity_diameter:g}mm" if args.fluidity_diameter is not None else ""
+    tag += f"_sweeps{args.fluidity_sweep_pairs}" if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != 2 else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -78,7 +83,8 @@ def run(args: argparse.Namespace) -> None:
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
             "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth,
-            "viscosity": args.viscosity, "mu_i": cfg.material.mu_i and cfg.material.mu_i.model_dump()}  # fmt: skip
+            "viscosity": args.viscosity, "mu_i": cfg.material.mu_i and cfg.material.mu_i.model_dump(),
+            "fluidity": cfg.material.fluidity and cfg.material.fluidity.model_dump()}  # fmt: skip
     (out / META).write_text(json.dumps(meta, indent=1))
 
     def progress(s: Solver) -> None:
@@ -183,6 +189,11 @@ def main() -> None:
     r.add_argument("--mu-i-diameter", type=float, default=None, metavar="D",
                    help="m: inertial-number friction mu(I) with grains of diameter D (MaterialConfig.mu_i, other "
                         "parameters at their defaults; not the paper's law)")
+    r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
+                   help="m: nonlocal granular fluidity with grains of diameter D (MaterialConfig.fluidity, other "
+                        "parameters at their defaults; not the paper's law)")
+    r.add_argument("--fluidity-sweep-pairs", type=int, default=2, metavar="N",
+                   help="pairs of Jacobi sweeps of the fluidity per step (FluidityConfig.sweep_pairs)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
