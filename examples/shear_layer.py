@@ -29,6 +29,7 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
     python examples/mpm_fixed_state.py run ... --fluidity-diameter 1e-3 --out runs/shear_ngf  # grousered)
     python examples/mpm_fixed_state.py run ... --fluidity-diameter 3e-3 --out runs/shear_ngf  # and at 2.5 mm:
     python examples/mpm_fixed_state.py run ... --fluidity-diameter 1e-3 --fluidity-sweep-pairs 8 --out runs/shear_ngf
+    python examples/mpm_fixed_state.py run --cell-mm 1.25 ... --fluidity-diameter 3e-3 --fluidity-sweep-pairs 8 --out runs/shear_ngf
     python examples/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \
         --out docs/figures/shear_layer
 
