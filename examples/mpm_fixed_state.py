@@ -36,6 +36,8 @@ from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
 from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
 
+DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default
+
 META = "fixed_state.json"
 
 
@@ -74,7 +76,7 @@ def run(args: argparse.Namespace) -> None:
     tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
     tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
     tag += f"_ngf{1e3 * args.fluidity_diameter:g}mm" if args.fluidity_diameter is not None else ""
-    tag += f"_sweeps{args.fluidity_sweep_pairs}" if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != 2 else ""
+    tag += f"_sweeps{args.fluidity_sweep_pairs}" if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != DEFAULT_SWEEP_PAIRS else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -82,9 +84,8 @@ def run(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
-            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth,
-            "viscosity": args.viscosity, "mu_i": cfg.material.mu_i and cfg.material.mu_i.model_dump(),
-            "fluidity": cfg.material.fluidity and cfg.material.fluidity.model_dump()}  # fmt: skip
+            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth}  # fmt: skip
+    # (the material law, viscosity, mu_i or fluidity, is in the run folder's config.json)
     (out / META).write_text(json.dumps(meta, indent=1))
 
     def progress(s: Solver) -> None:
@@ -192,7 +193,7 @@ def main() -> None:
     r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
                    help="m: nonlocal granular fluidity with grains of diameter D (MaterialConfig.fluidity, other "
                         "parameters at their defaults; not the paper's law)")
-    r.add_argument("--fluidity-sweep-pairs", type=int, default=2, metavar="N",
+    r.add_argument("--fluidity-sweep-pairs", type=int, default=DEFAULT_SWEEP_PAIRS, metavar="N",
                    help="pairs of Jacobi sweeps of the fluidity per step (FluidityConfig.sweep_pairs)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")

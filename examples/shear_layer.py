@@ -50,7 +50,8 @@ from pathlib import Path
 import numpy as np
 
 from intrusim.analysis.steady import interval_means
-from intrusim.params import table_s1
+from intrusim.mpm.config import FluidityConfig
+from intrusim.params import RPM, table_s1
 from intrusim.scenarios import grousered_wheel_scenario
 
 META = "fixed_state.json"
@@ -61,6 +62,7 @@ FLOW_RATES = (1.0, 10.0)  # 1/s: the area of grains shearing faster than each (c
 PERCENTILES = (50.0, 90.0, 99.0)  # of gdot_p over the points near the wheel shearing faster than 1/s
 GRAIN_DIAMETER = 1.0e-3  # m, poppy seeds (~1 mm; not in Table S1)
 GRAIN_DENSITY = table_s1()["poppy_seeds"]["grain_density"]  # kg/m^3
+DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default  # named in a series only when not this
 LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1)), (0, (1, 3)))  # one per series in the figure
 MARKERS = "osD^vP"
 FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
@@ -100,7 +102,8 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     import meshio
 
     meta = json.loads((run_dir / META).read_text())
-    dt = json.loads((run_dir / "config.json").read_text())["derived"]["dt"]
+    resolved = json.loads((run_dir / "config.json").read_text())
+    dt, material = resolved["derived"]["dt"], resolved["config"]["material"]  # the run's own material law
     ts = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
     h = float(meta["cell_mm"]) * 1e-3
     edges = np.arange(DEPTH_RANGE[0], DEPTH_RANGE[1] + 0.25 * h, 0.5 * h)
@@ -127,9 +130,10 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         near = (np.abs(x - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (z > zc + FIELD_BOX[2])
         gd = mesh.point_data["gdot_p"][near]
         flowing.append([np.count_nonzero(gd > g) * (0.5 * h) ** 2 for g in FLOW_RATES])
-        shearing = gd[gd > FLOW_RATES[0]]
+        is_shearing = gd > FLOW_RATES[0]
+        shearing = gd[is_shearing]
         fast.append(np.percentile(shearing, PERCENTILES) if len(shearing) else np.full(len(PERCENTILES), np.nan))
-        pressure = mesh.point_data["pressure"][near][gd > FLOW_RATES[0]]
+        pressure = mesh.point_data["pressure"][near][is_shearing]
         inertial = shearing[pressure > 0] * GRAIN_DIAMETER * np.sqrt(GRAIN_DENSITY / pressure[pressure > 0])
         numbers.append(np.percentile(inertial, PERCENTILES) if len(inertial) else np.full(len(PERCENTILES), np.nan))
         last = {"x": x[near] - xc, "z": z[near] - zc, "gdot": gd}
@@ -141,14 +145,14 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     centre = 0.5 * (edges[1:] + edges[:-1])
     keep = count > 0
     centre, drag, gdot, count = centre[keep], drag[keep], gdot[keep], count[keep]
-    rim_speed = abs(meta["omega_rpm"]) * np.pi / 30.0 * RIM_RADIUS - meta["vx"]  # m/s backwards, the rim's lowest point
+    rim_speed = abs(meta["omega_rpm"]) * RPM * RIM_RADIUS - meta["vx"]  # m/s backwards, the rim's lowest point
     w90_10 = width_between(centre, drag, 0.9, 0.1)
     w75_25 = width_between(centre, drag, 0.75, 0.25)
     smooth = bool(meta.get("smooth", False))
     return {
-        "series": series_name(smooth, meta["domain"], meta.get("viscosity", 0.0), meta.get("mu_i"), meta.get("fluidity")),
+        "series": series_name(smooth, meta["domain"], material.get("viscosity", 0.0), material.get("mu_i"), material.get("fluidity")),
         "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
-        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(meta.get("viscosity", 0.0)),
+        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(material.get("viscosity", 0.0)),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
         "snapshots": len(used), "t_first": min(used), "t_last": max(used),
         "rim_speed": rim_speed, "grain_speed_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
@@ -172,7 +176,7 @@ def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None 
     name += f", mu(I) d {1e3 * mu_i['grain_diameter']:g} mm" if mu_i else ""
     if fluidity:
         name += f", nonlocal d {1e3 * fluidity['grain_diameter']:g} mm"
-        name += f", {fluidity['sweep_pairs']} sweep pairs" if fluidity["sweep_pairs"] != 2 else ""
+        name += f", {fluidity['sweep_pairs']} sweep pairs" if fluidity["sweep_pairs"] != DEFAULT_SWEEP_PAIRS else ""
     return name
 
 
