@@ -6,7 +6,7 @@ import pytest
 from intrusim.mpm.backend import ensure_initialized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import (
-    DruckerPragerSeparation, MuIDruckerPrager, drucker_prager_update_numpy, material_from_config, mu_i_update,
+    DruckerPragerSeparation, MuIDruckerPrager, drucker_prager_update, drucker_prager_update_numpy, material_from_config, mu_i_update,
     mu_i_update_numpy, pressure, stress_update_batch, stress_update_kernel,
 )
 
@@ -14,7 +14,7 @@ MAT = DruckerPragerSeparation.from_config(MaterialConfig(rho_c=900.0, mu_s=0.5, 
 DT = 1e-4
 
 
-def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params, update=None):
+def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params, update=drucker_prager_update):
     """:func:`drucker_prager_update` (or ``update``) through a batch kernel, called as the NumPy twin is."""
     import taichi as ti
 
@@ -24,8 +24,7 @@ def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params, update=None):
             ti.Matrix.ndarray(2, 2, ti.f32, shape=n), ti.ndarray(ti.f32, shape=n), ti.ndarray(ti.f32, shape=n)]
     for a, d in zip(arrs, (sigma, s_yy, L, rho, np.zeros(n))):
         a.from_numpy(np.asarray(d, np.float32))
-    kernel = stress_update_kernel(len(prm)) if update is None else stress_update_kernel(len(prm), update)
-    kernel(*arrs, dt, prm)
+    stress_update_kernel(len(prm), update)(*arrs, dt, prm)
     return arrs[0].to_numpy(), arrs[1].to_numpy(), arrs[4].to_numpy()
 
 

@@ -32,6 +32,7 @@ import numpy as np
 import taichi as ti
 
 from .config import MaterialConfig
+from .fluidity import NO_YIELD
 
 
 @ti.func
@@ -269,8 +270,6 @@ class NonlocalFluidity:
     @property
     def params(self) -> tuple[float, ...]:
         """(G, lam, NO_YIELD, rho_c): the elastic trial and free separation of :func:`drucker_prager_update`."""
-        from .fluidity import NO_YIELD
-
         return (self.shear_modulus, self.lame_lambda, NO_YIELD, self.rho_c)
 
     @property
