@@ -105,6 +105,27 @@ def write_vtk(path: Path, fields: dict[str, np.ndarray]) -> None:
     meshio.write(str(path), meshio.Mesh(points, cells, point_data=point_data), binary=True)
 
 
+def write_bodies_vtk(path: Path, polygons: list[np.ndarray], cell_data: dict[str, list[float]]) -> None:
+    """Rigid bodies as VTK polygons (meshio), one cell per body in the world frame (x, y=0, z),
+    with one value per body of each entry of ``cell_data`` (its pose and velocity)."""
+    import meshio
+
+    points = np.vstack([np.column_stack([p[:, 0], np.zeros(len(p)), p[:, 1]]) for p in polygons])
+    starts = np.cumsum([0] + [len(p) for p in polygons])
+    cells = [("polygon", np.arange(a, b).reshape(1, -1)) for a, b in zip(starts[:-1], starts[1:])]
+    data = {k: [np.array([v], dtype=np.float64) for v in vals] for k, vals in cell_data.items()}
+    meshio.write(str(path), meshio.Mesh(points, cells, cell_data=data), binary=True)
+
+
+def write_pvd(path: Path, entries: list[tuple[float, str, int]]) -> None:
+    """ParaView collection: each (time, file name relative to ``path``, part) as a DataSet, so the
+    snapshots open as one time series at their physical times (part 0 points, part 1 bodies)."""
+    lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1">', "  <Collection>"]
+    lines += [f'    <DataSet timestep="{t:.9g}" part="{part}" file="{name}"/>' for t, name, part in entries]
+    lines += ["  </Collection>", "</VTKFile>", ""]
+    atomic_write_bytes(Path(path), "\n".join(lines).encode())
+
+
 def plot_field(path: Path, x: np.ndarray, value: np.ndarray, label: str,
                polygons: list[np.ndarray] | None = None, size: tuple[float, float] | None = None,
                log: bool = False) -> None:

@@ -258,7 +258,9 @@ class Solver:
         return self.rows
 
     def write_snapshot(self) -> Path:
-        """VTK point cloud and PNG plot (equivalent plastic strain rate) of the particles."""
+        """VTK point cloud, the rigid bodies' outlines (VTK polygons with their pose), the
+        ParaView collection ``snapshots.pvd`` of every snapshot in the folder at its physical
+        time, and a PNG plot (equivalent plastic strain rate) of the particles."""
         d = self.particle_fields()
         snap_dir = self.run_dir / "snapshots"
         snap_dir.mkdir(parents=True, exist_ok=True)
@@ -267,12 +269,41 @@ class Solver:
             "x": d["x"], "velocity": d["v"], "pressure": d["pressure"], "density": d["density"],
             "eps_p": d["eps_p"], "gdot_p": d["gdot_p"],
         })
+        polygons, poses = self.body_outlines()
+        if polygons:
+            mpm_io.write_bodies_vtk(snap_dir / f"bodies_{self.step_count:08d}.vtu", polygons, poses)
+        self._write_snapshot_collection(snap_dir)
         mpm_io.plot_field(
             snap_dir / f"gdot_p_{self.step_count:08d}.png", d["x"], d["gdot_p"],
-            "equivalent plastic strain rate (1/s)", [b.world_vertices() for b in self.intruders],
+            "equivalent plastic strain rate (1/s)", polygons,
             self.cfg.domain.size, log=True,
         )
         return path
+
+    def body_outlines(self) -> tuple[list[np.ndarray], dict[str, list[float]]]:
+        """World-frame polygons of the intruders and of the obstacles still in place, and per
+        polygon: body index (intruders 0, 1, ...; obstacles -1, -2, ...), pose and velocity."""
+        polygons, poses = [], {k: [] for k in ("body", "x", "z", "theta", "vx", "vz", "omega")}
+        for k, b in enumerate(self.intruders):
+            s = b.state
+            polygons.append(b.world_vertices())
+            for key, value in zip(poses, (k, s.x, s.z, s.theta, s.vx, s.vz, s.omega)):
+                poses[key].append(float(value))
+        for k, o in enumerate(self.cfg.obstacles):
+            if o.removal_time is None or self.t < o.removal_time:
+                polygons.append(np.asarray(o.vertices, dtype=float))
+                for key, value in zip(poses, (-1 - k, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)):
+                    poses[key].append(value)
+        return polygons, poses
+
+    def _write_snapshot_collection(self, snap_dir: Path) -> None:
+        """snapshots.pvd listing every particles_/bodies_ file of the folder at step * dt (a
+        resumed run's earlier snapshots included)."""
+        entries = []
+        for part, stem in enumerate(("particles", "bodies")):
+            for f in sorted(snap_dir.glob(f"{stem}_*.vtu")):
+                entries.append((int(f.stem.split("_")[1]) * self.dt, f.name, part))
+        mpm_io.write_pvd(snap_dir / "snapshots.pvd", sorted(entries))
 
     def checkpoint_run_folder(self) -> None:
         """Save the state as the run folder's checkpoint, the one a resumed or extended run goes on from."""
