@@ -19,8 +19,10 @@ def _sweep(dmu, gloc, mass, kappa, pairs):
     ensure_initialized()
     f = FluidityField(dmu.shape)
     f.src.from_numpy(np.stack([mass * dmu, mass * dmu * gloc, mass], axis=-1).astype(ensure_initialized().np_real))
+    nx, ny = dmu.shape
+    f.box.from_numpy(np.array([0, nx, 0, ny, 0, nx, 0, ny], dtype=np.int32))  # the sweeps visit every node
     for _ in range(pairs):
-        fluidity_jacobi(f.src, f.g, f.g_tmp, kappa)
+        fluidity_jacobi(f.src, f.g, f.g_tmp, f.excess, f.box, kappa)
     ti.sync()
     return f.to_numpy()
 

@@ -32,10 +32,12 @@ import numpy as np
 import taichi as ti
 
 from . import backend
+from .grid import copy_record
 from .transfer import CHUNK_SPREAD, quadratic_weights
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
+ROW_GRAIN = 8  # grid rows per task of the node loops (a loop of a few hundred rows would otherwise run as one task)
 SOURCE_CHUNKS = 4  # private grid copies of the fluidity sources: a fixed summation order (no atomics)
 
 
@@ -66,32 +68,57 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 @ti.kernel
 def fluidity_sources(
     x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
-    parts: ti.types.ndarray(), src: ti.types.ndarray(), h: float, pad: int, prm: ti.types.vector(4, float),
+    parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
+    h: float, pad: int, prm: ti.types.vector(4, float),
 ):
     """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1); ``prm`` = (mu_s, b, d, rho_s).
 
     Each chunk of points scatters serially into its own copy ``parts[c]`` (as the momentum P2G
     does), and the copies are summed in order: the sums do not depend on the threads' schedule,
-    so a run and its restart give the same numbers.
+    so a run and its restart give the same numbers. The copies are zeroed as they are read, ready
+    for the next step (they start at zero: ``FluidityField``). Only the nodes in the box the points
+    reach this step or reached the last one are summed (``box``: [0:4] this step's node box
+    [i0, i1, j0, j1), [4:8] its union with the last step's, which the sweeps visit); elsewhere the
+    sources, g and the excess are zero already.
     """
-    nc, nx, ny = parts.shape[0], src.shape[0], src.shape[1]
+    nc, nx, ny = box_parts.shape[0], src.shape[0], src.shape[1]
     n = x.shape[0]
-    for c, i, j in ti.ndrange(nc, nx, ny):
-        parts[c, i, j] = ti.Vector([0.0, 0.0, 0.0])
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
         if q % CHUNK_SPREAD == 0:
             c = q // CHUNK_SPREAD
+            lo = ti.Vector([nx, ny])
+            hi = ti.Vector([0, 0])
             for p in range(c * n // nc, (c + 1) * n // nc):
                 base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
+                lo = ti.min(lo, base)
+                hi = ti.max(hi, base + 3)
+                first = copy_record(c, base[0], base[1], nx, ny)  # the other 8 nodes at fixed offsets from it
                 for a, e in ti.static(ti.ndrange(3, 3)):
-                    i, j = base[0] + a, base[1] + e
-                    parts[c, i, j] = parts[c, i, j] + w[a][0] * w[e][1] * val
-    for i, j in ti.ndrange(nx, ny):
-        total = ti.Vector([0.0, 0.0, 0.0])
-        for c in range(nc):
-            total += parts[c, i, j]
-        src[i, j] = total
+                    k = first + (a * ny + e) * 3
+                    dv = w[a][0] * w[e][1] * val
+                    for r in ti.static(range(3)):
+                        parts[k + r] = parts[k + r] + dv[r]
+            box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
+    b0, b1, b2, b3 = nx, 0, ny, 0
+    ti.loop_config(serialize=True)  # a reduction into b0-b3
+    for c in range(nc):
+        b0 = ti.min(b0, box_parts[c, 0])
+        b1 = ti.max(b1, box_parts[c, 1])
+        b2 = ti.min(b2, box_parts[c, 2])
+        b3 = ti.max(b3, box_parts[c, 3])
+    u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
+    box[0], box[1], box[2], box[3] = b0, b1, b2, b3
+    box[4], box[5], box[6], box[7] = u0, u1, u2, u3
+    ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
+    for i in range(u0, u1):  # parallel over rows, serial along each
+        for j in range(u2, u3):
+            total = ti.Vector([0.0, 0.0, 0.0])
+            for c in range(nc):
+                k = copy_record(c, i, j, nx, ny)
+                total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
+                parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
+            src[i, j] = total
 
 
 @ti.func
@@ -113,12 +140,23 @@ def _jacobi_node(src: ti.template(), g: ti.template(), i, j, kappa):
 
 
 @ti.kernel
-def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(), kappa: float):
-    """Two Jacobi sweeps, g -> g_tmp -> g."""
-    for i, j in ti.ndrange(g.shape[0], g.shape[1]):
-        g_tmp[i, j] = _jacobi_node(src, g, i, j, kappa)
-    for i, j in ti.ndrange(g.shape[0], g.shape[1]):
-        g[i, j] = _jacobi_node(src, g_tmp, i, j, kappa)
+def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(),
+                    excess: ti.types.ndarray(), box: ti.types.ndarray(), kappa: float):
+    """Two Jacobi sweeps, g -> g_tmp -> g, and the nonlocal excess g - g_loc of each node (g_loc: its
+    |dmu|-weighted local fluidity, 0 where no point has |dmu| > 0) for ``fluidity_relax``, on the
+    nodes of the box ``box[4:8]`` of ``fluidity_sources`` (outside it all three are zero)."""
+    u0, u1, u2, u3 = box[4], box[5], box[6], box[7]
+    ti.loop_config(block_dim=ROW_GRAIN)
+    for i in range(u0, u1):  # parallel over rows, serial along each (no integer division per node)
+        for j in range(u2, u3):
+            g_tmp[i, j] = _jacobi_node(src, g, i, j, kappa)
+    ti.loop_config(block_dim=ROW_GRAIN)
+    for i in range(u0, u1):
+        for j in range(u2, u3):
+            gn = _jacobi_node(src, g_tmp, i, j, kappa)
+            g[i, j] = gn
+            s = src[i, j]
+            excess[i, j] = gn - (s[1] / s[0] if s[0] > 0.0 else 0.0 * kappa)
 
 
 @ti.func
@@ -145,25 +183,22 @@ def relaxed_tau(tau_t, p, excess, dt, prm):
 @ti.kernel
 def fluidity_relax(
     x: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(),
-    gdot_p: ti.types.ndarray(), src: ti.types.ndarray(), g: ti.types.ndarray(), h: float, pad: int, dt: float,
+    gdot_p: ti.types.ndarray(), excess: ti.types.ndarray(), h: float, pad: int, dt: float,
     prm: ti.types.vector(5, float),
 ):
     """The flow of each stressed point at fixed pressure (:func:`relaxed_tau`), with the nonlocal
-    excess g - g_loc of the nodes (g_loc: their |dmu|-weighted local fluidity) interpolated at it;
+    excess g - g_loc of the nodes (``fluidity_jacobi``'s last sweep) interpolated at it;
     dgamma = (tau* - tau) / G. ``prm`` = (G, mu_s, b, d, rho_s)."""
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for p in range(x.shape[0]):
         sig, syy = sigma[p], s_yy[p]
         P, tau = _pressure_and_tau(sig, syy)
         if P > 0.0 and tau > 0.0:
-            base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, g.shape[0], g.shape[1])
-            excess = 0.0 * P
+            base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, excess.shape[0], excess.shape[1])
+            ex = 0.0 * P
             for a, c in ti.static(ti.ndrange(3, 3)):
-                i, j = base[0] + a, base[1] + c
-                s = src[i, j]
-                local = s[1] / s[0] if s[0] > 0.0 else 0.0 * P
-                excess += w[a][0] * w[c][1] * (g[i, j] - local)
-            scale = relaxed_tau(tau, P, excess, dt, prm) / tau
+                ex += w[a][0] * w[c][1] * excess[base[0] + a, base[1] + c]
+            scale = relaxed_tau(tau, P, ex, dt, prm) / tau
             a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
             sigma[p] = ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]])
             s_yy[p] = a_yy * scale - P
@@ -173,20 +208,35 @@ def fluidity_relax(
 
 
 class FluidityField:
-    """The grid arrays of the nonlocal fluidity: the sources' chunk copies and sum (nx, ny, 3) and the field g, 1/s."""
+    """The grid arrays of the nonlocal fluidity: the sources' chunk copies (flat) and sum (nx, ny, 3), the
+    field g and its nonlocal excess g - g_loc, 1/s, and the node boxes of ``fluidity_sources``."""
 
     def __init__(self, shape):
         real = backend.info().real
-        self.parts = ti.Vector.ndarray(3, real, shape=(SOURCE_CHUNKS, *shape))
+        self.shape = tuple(shape)
+        # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy, as Grid.mp_parts (grid.copy_record)
+        self.parts = ti.ndarray(real, shape=SOURCE_CHUNKS * self.shape[0] * self.shape[1] * 3)
+        self.parts.fill(0.0)  # fluidity_sources leaves them zeroed after each step
+        self.box_parts = ti.ndarray(ti.i32, shape=(SOURCE_CHUNKS, 4))
+        self.box = ti.ndarray(ti.i32, shape=8)
         self.src = ti.Vector.ndarray(3, real, shape=shape)
         self.g = ti.ndarray(real, shape=shape)
         self.g_tmp = ti.ndarray(real, shape=shape)
+        self.excess = ti.ndarray(real, shape=shape)
+        for a in (self.src, self.g, self.g_tmp, self.excess):
+            a.fill(0.0)
+        self._whole_grid_next()
+
+    def _whole_grid_next(self) -> None:
+        """The next step visits every node (after a start or a load, g may be non-zero anywhere)."""
+        self.box.from_numpy(np.array([0, self.shape[0], 0, self.shape[1], 0, 0, 0, 0], dtype=np.int32))
 
     def to_numpy(self) -> np.ndarray:
         return self.g.to_numpy()
 
     def load(self, g: np.ndarray) -> None:
         self.g.from_numpy(np.ascontiguousarray(g, dtype=backend.info().np_real))
+        self._whole_grid_next()
 
 
 def steady_fluidity_numpy(dmu: np.ndarray, gloc: np.ndarray, mass: np.ndarray, kappa: float) -> np.ndarray:
