@@ -10,8 +10,9 @@ from intrusim.mpm.fluidity import steady_fluidity_numpy
 G, MU_S, B, D, RHO_S, DT = 3.85e5, 0.56, 0.9375, 1e-3, 1100.0, 4e-5
 
 
-def _sweep(dmu, gloc, mass, kappa, pairs):
-    """``pairs`` calls of fluidity_jacobi from g = 0 on node arrays (the sources as the P2G leaves them)."""
+def _sweep(dmu, gloc, mass, kappa, pairs, box=None, excess=False):
+    """``pairs`` calls of fluidity_jacobi from g = 0 on node arrays (the sources as the P2G leaves
+    them), on the node box (i0, i1, j0, j1) (default: every node); g, or g and the excess."""
     import taichi as ti
 
     from intrusim.mpm.fluidity import FluidityField, fluidity_jacobi
@@ -20,11 +21,29 @@ def _sweep(dmu, gloc, mass, kappa, pairs):
     f = FluidityField(dmu.shape)
     f.src.from_numpy(np.stack([mass * dmu, mass * dmu * gloc, mass], axis=-1).astype(ensure_initialized().np_real))
     nx, ny = dmu.shape
-    f.box.from_numpy(np.array([0, nx, 0, ny, 0, nx, 0, ny], dtype=np.int32))  # the sweeps visit every node
+    f.box.from_numpy(np.array([0, nx, 0, ny, *(box or (0, nx, 0, ny))], dtype=np.int32))
     for _ in range(pairs):
         fluidity_jacobi(f.src, f.g, f.g_tmp, f.excess, f.box, kappa)
     ti.sync()
-    return f.to_numpy()
+    return (f.to_numpy(), f.excess.to_numpy()) if excess else f.to_numpy()
+
+
+def test_sweeps_on_the_box_of_the_material_equal_sweeps_on_every_node():
+    """The sweeps visit only the node box the points reach; outside it g and the excess stay 0."""
+    rng = np.random.default_rng(5)
+    shape, box = (20, 14), (3, 15, 2, 9)
+    inside = np.zeros(shape, bool)
+    inside[box[0]:box[1], box[2]:box[3]] = True
+    dmu = np.where(inside, rng.uniform(0.0, 0.2, shape), 0.0)
+    gloc = np.where(inside, rng.uniform(0.0, 20.0, shape), 0.0)
+    mass = np.where(inside & (rng.uniform(size=shape) < 0.9), 1.0, 0.0)
+    g_all, ex_all = _sweep(dmu, gloc, mass, 0.3, 30, excess=True)
+    g_box, ex_box = _sweep(dmu, gloc, mass, 0.3, 30, box=box, excess=True)
+    np.testing.assert_array_equal(g_box, g_all)
+    np.testing.assert_array_equal(ex_box, ex_all)
+    assert g_all.max() > 1.0 and not g_box[~inside].any() and not ex_box[~inside].any()
+    local = np.where(mass * dmu > 0, gloc, 0.0)
+    np.testing.assert_allclose(ex_all, g_all - local, rtol=1e-6, atol=1e-5)  # excess = g - g_loc
 
 
 def test_uniform_flow_has_the_local_fluidity():
