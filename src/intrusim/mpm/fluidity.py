@@ -65,60 +65,84 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
     return base, w, mass[p] * ti.Vector([dmu, dmu * gloc, 1.0])
 
 
-@ti.kernel
-def fluidity_sources(
-    x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
-    parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
-    h: float, pad: int, prm: ti.types.vector(4, float),
-):
-    """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1); ``prm`` = (mu_s, b, d, rho_s).
+def fluidity_sources_kernel(chunked: bool):
+    """The sources' kernel, chunked (CPU: private copies, deterministic) or atomic (GPU: one copy,
+    atomic adds, the box is the whole grid), as ``transfer.p2g_kernel``."""
+    return _SOURCE_KERNELS[bool(chunked)]
 
-    Each chunk of points scatters serially into its own copy ``parts[c]`` (as the momentum P2G
-    does), and the copies are summed in order: the sums do not depend on the threads' schedule,
-    so a run and its restart give the same numbers. The copies are zeroed as they are read, ready
-    for the next step (they start at zero: ``FluidityField``). Only the nodes in the box the points
-    reach this step or reached the last one are summed (``box``: [0:4] this step's node box
-    [i0, i1, j0, j1), [4:8] its union with the last step's, which the sweeps visit); elsewhere the
-    sources, g and the excess are zero already.
-    """
-    nc, nx, ny = box_parts.shape[0], src.shape[0], src.shape[1]
-    n = x.shape[0]
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
-        if q % CHUNK_SPREAD == 0:
-            c = q // CHUNK_SPREAD
-            lo = ti.Vector([nx, ny])
-            hi = ti.Vector([0, 0])
-            for p in range(c * n // nc, (c + 1) * n // nc):
+
+def _make_sources_kernel(chunked: bool):
+    @ti.kernel
+    def fluidity_sources(
+        x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
+        parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
+        h: float, pad: int, prm: ti.types.vector(4, float),
+    ):
+        """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1); ``prm`` = (mu_s, b, d, rho_s).
+
+        Chunked (CPU): each chunk of points scatters serially into its own copy of ``parts`` (as the
+        momentum P2G does), and the copies are summed in order: the sums do not depend on the
+        threads' schedule, so a run and its restart give the same numbers. Atomic (GPU): one copy.
+        The copies are zeroed as they are read, ready for the next step (they start at zero:
+        ``FluidityField``). Only the nodes in the box the points reach this step or reached the
+        last one are summed (``box``: [0:4] this step's node box [i0, i1, j0, j1), [4:8] its union
+        with the last step's, which the sweeps visit); elsewhere the sources, g and the excess are
+        zero already.
+        """
+        nc, nx, ny = box_parts.shape[0], src.shape[0], src.shape[1]
+        n = x.shape[0]
+        if ti.static(chunked):
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
+                if q % CHUNK_SPREAD == 0:
+                    c = q // CHUNK_SPREAD
+                    lo = ti.Vector([nx, ny])
+                    hi = ti.Vector([0, 0])
+                    for p in range(c * n // nc, (c + 1) * n // nc):
+                        base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
+                        lo = ti.min(lo, base)
+                        hi = ti.max(hi, base + 3)
+                        first = copy_record(c, base[0], base[1], nx, ny)  # the other 8 nodes at fixed offsets
+                        for a, e in ti.static(ti.ndrange(3, 3)):
+                            k = first + (a * ny + e) * 3
+                            dv = w[a][0] * w[e][1] * val
+                            for r in ti.static(range(3)):
+                                parts[k + r] = parts[k + r] + dv[r]
+                    box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
+        else:
+            box_parts[0, 0], box_parts[0, 1], box_parts[0, 2], box_parts[0, 3] = 0, nx, 0, ny
+            for p in range(n):
                 base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
-                lo = ti.min(lo, base)
-                hi = ti.max(hi, base + 3)
-                first = copy_record(c, base[0], base[1], nx, ny)  # the other 8 nodes at fixed offsets from it
+                first = copy_record(0, base[0], base[1], nx, ny)
                 for a, e in ti.static(ti.ndrange(3, 3)):
                     k = first + (a * ny + e) * 3
                     dv = w[a][0] * w[e][1] * val
                     for r in ti.static(range(3)):
-                        parts[k + r] = parts[k + r] + dv[r]
-            box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
-    b0, b1, b2, b3 = nx, 0, ny, 0
-    ti.loop_config(serialize=True)  # a reduction into b0-b3
-    for c in range(nc):
-        b0 = ti.min(b0, box_parts[c, 0])
-        b1 = ti.max(b1, box_parts[c, 1])
-        b2 = ti.min(b2, box_parts[c, 2])
-        b3 = ti.max(b3, box_parts[c, 3])
-    u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
-    box[0], box[1], box[2], box[3] = b0, b1, b2, b3
-    box[4], box[5], box[6], box[7] = u0, u1, u2, u3
-    ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
-    for i in range(u0, u1):  # parallel over rows, serial along each
-        for j in range(u2, u3):
-            total = ti.Vector([0.0, 0.0, 0.0])
-            for c in range(nc):
-                k = copy_record(c, i, j, nx, ny)
-                total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
-                parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
-            src[i, j] = total
+                        ti.atomic_add(parts[k + r], dv[r])
+        b0, b1, b2, b3 = nx, 0, ny, 0
+        ti.loop_config(serialize=True)  # a reduction into b0-b3
+        for c in range(nc):
+            b0 = ti.min(b0, box_parts[c, 0])
+            b1 = ti.max(b1, box_parts[c, 1])
+            b2 = ti.min(b2, box_parts[c, 2])
+            b3 = ti.max(b3, box_parts[c, 3])
+        u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
+        box[0], box[1], box[2], box[3] = b0, b1, b2, b3
+        box[4], box[5], box[6], box[7] = u0, u1, u2, u3
+        ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
+        for i in range(u0, u1):  # parallel over rows, serial along each
+            for j in range(u2, u3):
+                total = ti.Vector([0.0, 0.0, 0.0])
+                for c in range(nc):
+                    k = copy_record(c, i, j, nx, ny)
+                    total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
+                    parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
+                src[i, j] = total
+
+    return fluidity_sources
+
+
+_SOURCE_KERNELS = {flag: _make_sources_kernel(flag) for flag in (False, True)}
 
 
 @ti.func
@@ -211,13 +235,15 @@ class FluidityField:
     """The grid arrays of the nonlocal fluidity: the sources' chunk copies (flat) and sum (nx, ny, 3), the
     field g and its nonlocal excess g - g_loc, 1/s, and the node boxes of ``fluidity_sources``."""
 
-    def __init__(self, shape):
+    def __init__(self, shape, chunked: bool = True):
         real = backend.info().real
         self.shape = tuple(shape)
+        self.chunked = bool(chunked)
+        copies = SOURCE_CHUNKS if self.chunked else 1  # private copies (CPU) or one with atomic adds (GPU)
         # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy, as Grid.mp_parts (grid.copy_record)
-        self.parts = ti.ndarray(real, shape=SOURCE_CHUNKS * self.shape[0] * self.shape[1] * 3)
-        self.parts.fill(0.0)  # fluidity_sources leaves them zeroed after each step
-        self.box_parts = ti.ndarray(ti.i32, shape=(SOURCE_CHUNKS, 4))
+        self.parts = ti.ndarray(real, shape=copies * self.shape[0] * self.shape[1] * 3)
+        self.parts.fill(0.0)  # the sources' kernel leaves them zeroed after each step
+        self.box_parts = ti.ndarray(ti.i32, shape=(copies, 4))
         self.box = ti.ndarray(ti.i32, shape=8)
         self.src = ti.Vector.ndarray(3, real, shape=shape)
         self.g = ti.ndarray(real, shape=shape)

@@ -21,7 +21,7 @@ from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
-from .fluidity import FluidityField, fluidity_jacobi, fluidity_relax, fluidity_sources
+from .fluidity import FluidityField, fluidity_jacobi, fluidity_relax, fluidity_sources_kernel
 from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import Particles
@@ -87,7 +87,8 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
-        self.fluidity = FluidityField(self.grid.shape) if isinstance(self.material, NonlocalFluidity) else None
+        self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1)
+                         if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, the obstacles' (constant) box
         # and pose values, and its graph once compiled
         self._plans: dict[tuple[bool, ...], tuple[list[Launch], dict]] = {}
@@ -126,7 +127,7 @@ class Solver:
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
-            launches[:0] = [Launch(fluidity_sources, (p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src,
+            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked), (p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src,
                                                        g.h, g.pad, m.fluidity_params))]
             launches[1:1] = [Launch(fluidity_jacobi, (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))] * m.sweep_pairs
             launches.append(Launch(fluidity_relax, (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
