@@ -10,12 +10,13 @@ from intrusim.mpm.fluidity import steady_fluidity_numpy
 G, MU_S, B, D, RHO_S, DT = 3.85e5, 0.56, 0.9375, 1e-3, 1100.0, 4e-5
 
 
-def _sweep(dmu, gloc, mass, kappa, pairs, box=None, excess=False):
-    """``pairs`` calls of fluidity_jacobi from g = 0 on node arrays (the sources as the P2G leaves
-    them), on the node box (i0, i1, j0, j1) (default: every node); g, or g and the excess."""
+def _sweep(dmu, gloc, mass, kappa, pairs, box=None, excess=False, rows=True):
+    """``pairs`` calls of the sweeps' kernel (by rows, or one thread per node) from g = 0 on node
+    arrays (the sources as the P2G leaves them), on the node box (i0, i1, j0, j1) (default: every
+    node); g, or g and the excess."""
     import taichi as ti
 
-    from intrusim.mpm.fluidity import FluidityField, fluidity_jacobi
+    from intrusim.mpm.fluidity import FluidityField, fluidity_jacobi_kernel
 
     ensure_initialized()
     f = FluidityField(dmu.shape)
@@ -23,7 +24,7 @@ def _sweep(dmu, gloc, mass, kappa, pairs, box=None, excess=False):
     nx, ny = dmu.shape
     f.box.from_numpy(np.array([0, nx, 0, ny, *(box or (0, nx, 0, ny))], dtype=np.int32))
     for _ in range(pairs):
-        fluidity_jacobi(f.src, f.g, f.g_tmp, f.excess, f.box, kappa)
+        fluidity_jacobi_kernel(rows)(f.src, f.g, f.g_tmp, f.excess, f.box, kappa)
     ti.sync()
     return (f.to_numpy(), f.excess.to_numpy()) if excess else f.to_numpy()
 
@@ -41,6 +42,9 @@ def test_sweeps_on_the_box_of_the_material_equal_sweeps_on_every_node():
     g_box, ex_box = _sweep(dmu, gloc, mass, 0.3, 30, box=box, excess=True)
     np.testing.assert_array_equal(g_box, g_all)
     np.testing.assert_array_equal(ex_box, ex_all)
+    g_flat, ex_flat = _sweep(dmu, gloc, mass, 0.3, 30, box=box, excess=True, rows=False)  # the GPU's loop
+    np.testing.assert_array_equal(g_flat, g_all)
+    np.testing.assert_array_equal(ex_flat, ex_all)
     assert g_all.max() > 1.0 and not g_box[~inside].any() and not ex_box[~inside].any()
     local = np.where(mass * dmu > 0, gloc, 0.0)
     np.testing.assert_allclose(ex_all, g_all - local, rtol=1e-6, atol=1e-5)  # excess = g - g_loc

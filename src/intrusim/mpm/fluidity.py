@@ -17,7 +17,7 @@ In the step (explicit MPM):
 
 1. ``fluidity_sources``: each point's |mu - mu_s| and |mu - mu_s| g_loc (from its stress at the
    start of the step) to the grid with the quadratic B-spline weights, mass-weighted;
-2. ``fluidity_jacobi``: Jacobi sweeps of the discrete nonlocal equation on the nodes that hold mass,
+2. ``fluidity_jacobi_kernel``: Jacobi sweeps of the discrete nonlocal equation on the nodes that hold mass,
    warm-started from the last step's field; a node without mass stands in for its neighbour by the
    neighbour's own value (no flux through a free surface);
 3. G2P with the elastic trial stress and free separation (no Drucker-Prager return);
@@ -63,6 +63,17 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
             gloc = ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu)  # g_loc = sqrt(P/(rho_s d^2)) (mu - mu_s)/(b mu)
     base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, nx, ny)
     return base, w, mass[p] * ti.Vector([dmu, dmu * gloc, 1.0])
+
+
+@ti.func
+def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny):
+    """src[i, j] = the sum of node (i, j)'s records over the copies, in order; the records are zeroed."""
+    total = ti.Vector([0.0, 0.0, 0.0])
+    for c in range(nc):
+        k = copy_record(c, i, j, nx, ny)
+        total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
+        parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
+    src[i, j] = total
 
 
 def fluidity_sources_kernel(chunked: bool):
@@ -129,15 +140,15 @@ def _make_sources_kernel(chunked: bool):
         u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
         box[0], box[1], box[2], box[3] = b0, b1, b2, b3
         box[4], box[5], box[6], box[7] = u0, u1, u2, u3
-        ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
-        for i in range(u0, u1):  # parallel over rows, serial along each
-            for j in range(u2, u3):
-                total = ti.Vector([0.0, 0.0, 0.0])
-                for c in range(nc):
-                    k = copy_record(c, i, j, nx, ny)
-                    total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
-                    parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
-                src[i, j] = total
+        if ti.static(chunked):
+            ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
+            for i in range(u0, u1):  # parallel over rows, serial along each (no integer division per node)
+                for j in range(u2, u3):
+                    _sum_copies(parts, src, i, j, nc, nx, ny)
+        else:
+            nj = ti.max(u3 - u2, 0)
+            for q in range(ti.max(u1 - u0, 0) * nj):  # one thread per node
+                _sum_copies(parts, src, u0 + q // nj, u2 + q % nj, nc, nx, ny)
 
     return fluidity_sources
 
@@ -163,24 +174,45 @@ def _jacobi_node(src: ti.template(), g: ti.template(), i, j, kappa):
     return out
 
 
-@ti.kernel
-def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(),
-                    excess: ti.types.ndarray(), box: ti.types.ndarray(), kappa: float):
-    """Two Jacobi sweeps, g -> g_tmp -> g, and the nonlocal excess g - g_loc of each node (g_loc: its
-    |dmu|-weighted local fluidity, 0 where no point has |dmu| > 0) for ``fluidity_relax``, on the
-    nodes of the box ``box[4:8]`` of ``fluidity_sources`` (outside it all three are zero)."""
-    u0, u1, u2, u3 = box[4], box[5], box[6], box[7]
-    ti.loop_config(block_dim=ROW_GRAIN)
-    for i in range(u0, u1):  # parallel over rows, serial along each (no integer division per node)
-        for j in range(u2, u3):
-            g_tmp[i, j] = _jacobi_node(src, g, i, j, kappa)
-    ti.loop_config(block_dim=ROW_GRAIN)
-    for i in range(u0, u1):
-        for j in range(u2, u3):
-            gn = _jacobi_node(src, g_tmp, i, j, kappa)
-            g[i, j] = gn
+def fluidity_jacobi_kernel(rows: bool):
+    """The sweeps' kernel: by rows of nodes (CPU: serial along a row, no integer division per
+    node) or one thread per node (GPU)."""
+    return _JACOBI_KERNELS[bool(rows)]
+
+
+def _make_jacobi_kernel(rows: bool):
+    @ti.func
+    def sweep_node(src: ti.template(), g_in: ti.template(), g_out: ti.template(), excess: ti.template(), i, j,
+                   kappa, last: ti.template()):
+        gn = _jacobi_node(src, g_in, i, j, kappa)
+        g_out[i, j] = gn
+        if ti.static(last):
             s = src[i, j]
             excess[i, j] = gn - (s[1] / s[0] if s[0] > 0.0 else 0.0 * kappa)
+
+    @ti.kernel
+    def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(),
+                        excess: ti.types.ndarray(), box: ti.types.ndarray(), kappa: float):
+        """Two Jacobi sweeps, g -> g_tmp -> g, and the nonlocal excess g - g_loc of each node (g_loc:
+        its |dmu|-weighted local fluidity, 0 where no point has |dmu| > 0) for ``fluidity_relax``, on
+        the nodes of the box ``box[4:8]`` of the sources' kernel (outside it all three are zero)."""
+        u0, u1, u2, u3 = box[4], box[5], box[6], box[7]
+        nj = ti.max(u3 - u2, 0)
+        for sweep in ti.static(range(2)):
+            g_in, g_out = ti.static((g, g_tmp) if sweep == 0 else (g_tmp, g))
+            if ti.static(rows):
+                ti.loop_config(block_dim=ROW_GRAIN)
+                for i in range(u0, u1):
+                    for j in range(u2, u3):
+                        sweep_node(src, g_in, g_out, excess, i, j, kappa, sweep == 1)
+            else:
+                for q in range(ti.max(u1 - u0, 0) * nj):
+                    sweep_node(src, g_in, g_out, excess, u0 + q // nj, u2 + q % nj, kappa, sweep == 1)
+
+    return fluidity_jacobi
+
+
+_JACOBI_KERNELS = {flag: _make_jacobi_kernel(flag) for flag in (False, True)}
 
 
 @ti.func
@@ -211,7 +243,7 @@ def fluidity_relax(
     prm: ti.types.vector(5, float),
 ):
     """The flow of each stressed point at fixed pressure (:func:`relaxed_tau`), with the nonlocal
-    excess g - g_loc of the nodes (``fluidity_jacobi``'s last sweep) interpolated at it;
+    excess g - g_loc of the nodes (the sweeps' kernel writes it) interpolated at it;
     dgamma = (tau* - tau) / G. ``prm`` = (G, mu_s, b, d, rho_s)."""
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for p in range(x.shape[0]):

@@ -21,7 +21,7 @@ from .contact import BodyPose, PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
-from .fluidity import FluidityField, fluidity_jacobi, fluidity_relax, fluidity_sources_kernel
+from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax, fluidity_sources_kernel
 from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import Particles
@@ -129,7 +129,7 @@ class Solver:
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
             launches[:0] = [Launch(fluidity_sources_kernel(f.chunked), (p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src,
                                                        g.h, g.pad, m.fluidity_params))]
-            launches[1:1] = [Launch(fluidity_jacobi, (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))] * m.sweep_pairs
+            launches[1:1] = [Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))] * m.sweep_pairs
             launches.append(Launch(fluidity_relax, (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
                                                     m.relax_params)))
         return launches
