@@ -32,7 +32,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .grid import copy_record
+from .grid import copy_record, union_box
 from .transfer import CHUNK_SPREAD, quadratic_weights
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
@@ -63,6 +63,25 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
             gloc = ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu)  # g_loc = sqrt(P/(rho_s d^2)) (mu - mu_s)/(b mu)
     base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, nx, ny)
     return base, w, mass[p] * ti.Vector([dmu, dmu * gloc, 1.0])
+
+
+@ti.func
+def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
+                    parts: ti.template(), nx, ny, h, pad, prm, atomic: ti.template()):
+    """Point p's sources into copy c of ``parts`` (flat records, ``grid.copy_record``: the stencil's
+    first node addressed once, the other 8 at fixed offsets), with atomic adds or plain
+    read-modify-write (one loop iteration owns copy c). Returns the stencil's base node."""
+    base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
+    first = copy_record(c, base[0], base[1], nx, ny)
+    for a, e in ti.static(ti.ndrange(3, 3)):
+        k = first + (a * ny + e) * 3
+        dv = w[a][0] * w[e][1] * val
+        for r in ti.static(range(3)):
+            if ti.static(atomic):
+                ti.atomic_add(parts[k + r], dv[r])
+            else:
+                parts[k + r] = parts[k + r] + dv[r]
+    return base
 
 
 @ti.func
@@ -110,33 +129,14 @@ def _make_sources_kernel(chunked: bool):
                     lo = ti.Vector([nx, ny])
                     hi = ti.Vector([0, 0])
                     for p in range(c * n // nc, (c + 1) * n // nc):
-                        base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
-                        lo = ti.min(lo, base)
-                        hi = ti.max(hi, base + 3)
-                        first = copy_record(c, base[0], base[1], nx, ny)  # the other 8 nodes at fixed offsets
-                        for a, e in ti.static(ti.ndrange(3, 3)):
-                            k = first + (a * ny + e) * 3
-                            dv = w[a][0] * w[e][1] * val
-                            for r in ti.static(range(3)):
-                                parts[k + r] = parts[k + r] + dv[r]
+                        base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, False)
+                        lo, hi = ti.min(lo, base), ti.max(hi, base + 3)
                     box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
         else:
             box_parts[0, 0], box_parts[0, 1], box_parts[0, 2], box_parts[0, 3] = 0, nx, 0, ny
             for p in range(n):
-                base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
-                first = copy_record(0, base[0], base[1], nx, ny)
-                for a, e in ti.static(ti.ndrange(3, 3)):
-                    k = first + (a * ny + e) * 3
-                    dv = w[a][0] * w[e][1] * val
-                    for r in ti.static(range(3)):
-                        ti.atomic_add(parts[k + r], dv[r])
-        b0, b1, b2, b3 = nx, 0, ny, 0
-        ti.loop_config(serialize=True)  # a reduction into b0-b3
-        for c in range(nc):
-            b0 = ti.min(b0, box_parts[c, 0])
-            b1 = ti.max(b1, box_parts[c, 1])
-            b2 = ti.min(b2, box_parts[c, 2])
-            b3 = ti.max(b3, box_parts[c, 3])
+                _scatter_source(p, 0, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, True)
+        b0, b1, b2, b3 = union_box(box_parts, nx, ny)
         u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
         box[0], box[1], box[2], box[3] = b0, b1, b2, b3
         box[4], box[5], box[6], box[7] = u0, u1, u2, u3

@@ -62,6 +62,19 @@ def copy_record(c, i, j, nx, ny):
 
 
 @ti.func
+def union_box(box_parts: ti.template(), nx, ny):
+    """The node box [i0, i1, j0, j1) holding every copy's box ``box_parts[c]`` (a serial reduction)."""
+    b0, b1, b2, b3 = nx, 0, ny, 0
+    ti.loop_config(serialize=True)
+    for c in range(box_parts.shape[0]):
+        b0 = ti.min(b0, box_parts[c, 0])
+        b1 = ti.max(b1, box_parts[c, 1])
+        b2 = ti.min(b2, box_parts[c, 2])
+        b3 = ti.max(b3, box_parts[c, 3])
+    return b0, b1, b2, b3
+
+
+@ti.func
 def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
     """Velocity of a node at (xi, zj) after the walls it lies on or beyond (left, right, floor)."""
     if xi <= 0.0:
@@ -91,13 +104,7 @@ def grid_update(
     nc = box_parts.shape[0]
     nx, ny = m.shape[0], m.shape[1]
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
-    b0, b1, b2, b3 = nx, 0, ny, 0  # this step's box
-    ti.loop_config(serialize=True)  # a reduction into b0-b3
-    for c in range(nc):
-        b0 = ti.min(b0, box_parts[c, 0])
-        b1 = ti.max(b1, box_parts[c, 1])
-        b2 = ti.min(b2, box_parts[c, 2])
-        b3 = ti.max(b3, box_parts[c, 3])
+    b0, b1, b2, b3 = union_box(box_parts, nx, ny)  # this step's box
     u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
     ti.loop_config(serialize=backend.SERIAL_LOOPS)
     for i in range(u0, u1):
