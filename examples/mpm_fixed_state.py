@@ -34,9 +34,10 @@ from intrusim.mpm.config import FluidityConfig, MPMConfig, MuIConfig, Prescribed
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
-from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
+from intrusim.scenarios.mpm_locomotion import MPMSettings, mpm_config, paper_settings
 
 DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default
+DEFAULT_CFL = MPMSettings.model_fields["cfl"].default
 
 META = "fixed_state.json"
 
@@ -48,7 +49,7 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
     settings = paper_settings("wheel").model_copy(update=dict(
         domain=domain, cells=cells, bed_depth=args.bed_depth, start_x=args.start_x, t_max=args.t_max,
-        cpu_threads=args.threads, contact_band_cells=args.band))  # fmt: skip
+        cpu_threads=args.threads, contact_band_cells=args.band, cfl=args.cfl))  # fmt: skip
     payload = mpm_config(scenario, settings, args.rpm, out).model_dump()
     body = payload["intruders"][0]
     radius = float(np.max(np.linalg.norm(np.asarray(body["vertices"]), axis=1)))
@@ -77,6 +78,7 @@ def run(args: argparse.Namespace) -> None:
     tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
     tag += f"_ngf{1e3 * args.fluidity_diameter:g}mm" if args.fluidity_diameter is not None else ""
     tag += f"_sweeps{args.fluidity_sweep_pairs}" if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != DEFAULT_SWEEP_PAIRS else ""
+    tag += f"_cfl{args.cfl:g}" if args.cfl != DEFAULT_CFL else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
     solver = Solver(cfg)
@@ -84,7 +86,7 @@ def run(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
-            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth}  # fmt: skip
+            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth, "cfl": args.cfl}  # fmt: skip
     # (the material law, viscosity, mu_i or fluidity, is in the run folder's config.json)
     (out / META).write_text(json.dumps(meta, indent=1))
 
@@ -195,6 +197,8 @@ def main() -> None:
                         "parameters at their defaults; not the paper's law)")
     r.add_argument("--fluidity-sweep-pairs", type=int, default=DEFAULT_SWEEP_PAIRS, metavar="N",
                    help="pairs of Jacobi sweeps of the fluidity per step (FluidityConfig.sweep_pairs)")
+    r.add_argument("--cfl", type=float, default=DEFAULT_CFL, metavar="C",
+                   help="time step dt = C h sqrt(rho_c / E) (MPMSettings.cfl; smaller: a check of the time step)")
     r.add_argument("--out", default="runs/fixed")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")

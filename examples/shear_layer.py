@@ -18,7 +18,10 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
 * the inertial number I = gdot_p d sqrt(rho_s / P) of the same points (poppy seeds: d = 1 mm,
   rho_s = 1100 kg/m^3, Table S1), 50th, 90th and 99th percentiles: the paper argues I stays small
   under intruders, so that a mu(I) law would change little;
-* the mean force on the wheel over the same window (timeseries.csv).
+* the mean force on the wheel over the same window (timeseries.csv);
+* with the nonlocal fluidity, the cooperativity length xi = A d / sqrt(|mu - mu_s|) over the points
+  around the wheel shearing faster than 10 /s at the run's last checkpoint (mu = tau / P of their
+  stress), median in mm and in cells: a band is resolved when xi spans a few cells.
 
     python examples/mpm_fixed_state.py run --cell-mm 2.5 --z 0.2102 --vx 0.148 --rpm 30 --smooth \\
         --t-max 0.5 --snapshot-every 0.025 --out runs/shear          # and 5, 1.25 mm; without --smooth
@@ -53,6 +56,7 @@ from intrusim.analysis.steady import interval_means
 from intrusim.mpm.config import FluidityConfig
 from intrusim.params import RPM, table_s1
 from intrusim.scenarios import grousered_wheel_scenario
+from intrusim.scenarios.mpm_locomotion import MPMSettings
 
 META = "fixed_state.json"
 RIM_RADIUS = grousered_wheel_scenario().radius  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
@@ -63,6 +67,7 @@ PERCENTILES = (50.0, 90.0, 99.0)  # of gdot_p over the points near the wheel she
 GRAIN_DIAMETER = 1.0e-3  # m, poppy seeds (~1 mm; not in Table S1)
 GRAIN_DENSITY = table_s1()["poppy_seeds"]["grain_density"]  # kg/m^3
 DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default  # named in a series only when not this
+DEFAULT_CFL = MPMSettings.model_fields["cfl"].default  # likewise
 LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1)), (0, (1, 3)))  # one per series in the figure
 MARKERS = "osD^vP"
 FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
@@ -149,8 +154,10 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     w90_10 = width_between(centre, drag, 0.9, 0.1)
     w75_25 = width_between(centre, drag, 0.75, 0.25)
     smooth = bool(meta.get("smooth", False))
+    xi = cooperativity_length(run_dir, material, ts, h)
     return {
-        "series": series_name(smooth, meta["domain"], material.get("viscosity", 0.0), material.get("mu_i"), material.get("fluidity")),
+        "series": series_name(smooth, meta["domain"], material.get("viscosity", 0.0), material.get("mu_i"), material.get("fluidity"),
+                              meta.get("cfl", DEFAULT_CFL)),
         "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
         "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(material.get("viscosity", 0.0)),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
@@ -162,14 +169,35 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         **{f"area_gdot_above_{g:g}_cm2": 1e4 * a for g, a in zip(FLOW_RATES, np.mean(flowing, axis=0))},
         **{f"gdot_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(fast, axis=0))},
         **{f"inertial_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(numbers, axis=0))},
+        "xi_fast_median_mm": 1e3 * xi, "xi_fast_median_cells": xi / h,
         "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count}, "field": last,
     }
 
 
+def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float) -> float:
+    """Median cooperativity length A d / sqrt(|mu - mu_s|), m, over the points around the wheel
+    shearing faster than FLOW_RATES[1] at the run's last checkpoint; NaN without the nonlocal fluidity."""
+    fluidity = material.get("fluidity")
+    if not fluidity:
+        return float("nan")
+    with np.load(run_dir / "checkpoint.npz") as z:
+        step = int(json.loads(bytes(z["meta"]).decode())["step_count"])
+        x, sig, syy, gd = z["x"], z["sigma"], z["s_yy"], z["gdot_p"]
+    xc, zc = (float(np.interp(step, ts["step"], ts[c])) for c in ("x", "z"))
+    pressure = -(sig[:, 0, 0] + sig[:, 1, 1] + syy) / 3.0
+    dev = np.stack([sig[:, 0, 0] + pressure, sig[:, 1, 1] + pressure, syy + pressure])
+    tau = np.sqrt(0.5 * (np.sum(dev**2, axis=0) + 2.0 * sig[:, 0, 1] ** 2))
+    near = (np.abs(x[:, 0] - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (x[:, 1] > zc + FIELD_BOX[2])
+    fast = near & (gd > FLOW_RATES[1]) & (pressure > 0.0)
+    dmu = np.abs(tau[fast] / pressure[fast] - material["mu_s"])
+    return float(np.median(fluidity["amplitude"] * fluidity["grain_diameter"] / np.sqrt(dmu))) if fast.any() else float("nan")
+
+
 def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None = None,
-                fluidity: dict | None = None) -> str:
-    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m, and the
-    viscous overstress, the mu(I) law or the nonlocal fluidity when there is one."""
+                fluidity: dict | None = None, cfl: float = 0.3) -> str:
+    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m, the
+    viscous overstress, the mu(I) law or the nonlocal fluidity when there is one, and the time
+    step's CFL number when it is not the default."""
     name = "smooth rim" if smooth else "grousered"
     name += "" if tuple(domain) == (0.7, 0.4) else f", {domain[0]:g} m x {domain[1]:g} m box"
     name += f", eta {viscosity:g} Pa s" if viscosity > 0.0 else ""
@@ -177,6 +205,7 @@ def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None 
     if fluidity:
         name += f", nonlocal d {1e3 * fluidity['grain_diameter']:g} mm"
         name += f", {fluidity['sweep_pairs']} sweep pairs" if fluidity["sweep_pairs"] != DEFAULT_SWEEP_PAIRS else ""
+    name += f", CFL {cfl:g}" if cfl != DEFAULT_CFL else ""
     return name
 
 
