@@ -15,7 +15,7 @@ band cannot be thinner than a few xi.
 
 In the step (explicit MPM):
 
-1. ``fluidity_sources``: each point's |mu - mu_s| and |mu - mu_s| g_loc (from its stress at the
+1. ``fluidity_sources_kernel``: each point's |mu - mu_s| and |mu - mu_s| g_loc (from its stress at the
    start of the step) to the grid with the quadratic B-spline weights, mass-weighted;
 2. ``fluidity_jacobi_kernel``: Jacobi sweeps of the discrete nonlocal equation on the nodes that hold mass,
    warm-started from the last step's field; a node without mass stands in for its neighbour by the
