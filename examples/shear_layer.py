@@ -33,11 +33,14 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
     python examples/mpm_fixed_state.py run ... --fluidity-diameter 3e-3 --out runs/shear_ngf  # and at 2.5 mm:
     python examples/mpm_fixed_state.py run ... --fluidity-diameter 1e-3 --fluidity-sweep-pairs 8 --out runs/shear_ngf
     python examples/mpm_fixed_state.py run --cell-mm 1.25 ... --fluidity-diameter 3e-3 --fluidity-sweep-pairs 8 --out runs/shear_ngf
+    python examples/mpm_fixed_state.py run ... [--smooth] --fluidity-diameter 6e-3 --out runs/shear_ngf   # 5, 2.5, 1.25 mm;
+    python examples/mpm_fixed_state.py run ... --smooth --fluidity-diameter 3e-3 --out runs/shear_ngf     # (item 8)
+    python examples/mpm_fixed_state.py run --cell-mm 2.5 ... [--fluidity-diameter 3e-3] --cfl 0.15 --out runs/shear_ngf|runs/shear_dt
     python examples/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \
-        --out docs/figures/shear_layer
+        runs/shear_dt --out docs/figures/shear_layer
 
 Writes NAME.csv (one row per run), NAME_profiles.csv (the binned profiles), NAME.png (profiles,
-widths and the 99th percentile against the cell size) and NAME_fields.png (gdot_p around the
+widths, the 99th percentile and the lift against the cell size) and NAME_fields.png (gdot_p around the
 wheel at the window's last snapshot), and prints the table and the power laws c h^b fitted per
 series of runs (a width the grid sets goes as h^1, a converged one as h^0).
 """
@@ -68,8 +71,7 @@ GRAIN_DIAMETER = 1.0e-3  # m, poppy seeds (~1 mm; not in Table S1)
 GRAIN_DENSITY = table_s1()["poppy_seeds"]["grain_density"]  # kg/m^3
 DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default  # named in a series only when not this
 DEFAULT_CFL = MPMSettings.model_fields["cfl"].default  # likewise
-LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1)), (0, (1, 3)))  # one per series in the figure
-MARKERS = "osD^vP"
+LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1)), (0, (1, 3)))  # one per cell size in the profiles
 FITTED = ("width_90_10_mm", "width_75_25_mm", "gdot_p99")  # fitted as c h^b per series
 
 
@@ -280,51 +282,64 @@ def main() -> None:
 
 
 def plot(rows: list[dict], fits: dict, path: Path) -> None:
+    """Profiles (top) and, against the cell size, the widths, the 99th percentile and the lift
+    (bottom); one colour per series, one line style per cell size, one legend for all panels."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     series = list(dict.fromkeys(r["series"] for r in rows))
     cells = sorted({r["cell_mm"] for r in rows}, reverse=True)
-    fig, axes = plt.subplots(1, 4, figsize=(18, 4.6))
+    colour = {name: plt.get_cmap("tab20")(i % 20) for i, name in enumerate(series)}
+    fig = plt.figure(figsize=(16, 10))
+    grid = fig.add_gridspec(2, 3)
+    prof = [fig.add_subplot(grid[0, k]) for k in range(2)]
+    conv = [fig.add_subplot(grid[1, k]) for k in range(3)]
+    key_ax = fig.add_subplot(grid[0, 2])
+    key_ax.set_axis_off()
     for r in rows:
-        p, color, style = r["profile"], f"C{cells.index(r['cell_mm'])}", LINE_STYLES[series.index(r["series"]) % len(LINE_STYLES)]
-        label = f"{r['series']}, {r['cell_mm']:g} mm"
-        axes[0].plot(p["drag"], 1e3 * p["depth"], linestyle=style, color=color, label=label)
-        axes[1].plot(p["gdot"], 1e3 * p["depth"], linestyle=style, color=color)
-    for ax in axes[:2]:
+        p, style = r["profile"], LINE_STYLES[cells.index(r["cell_mm"]) % len(LINE_STYLES)]
+        prof[0].plot(p["drag"], 1e3 * p["depth"], linestyle=style, color=colour[r["series"]], lw=1.0)
+        prof[1].plot(p["gdot"], 1e3 * p["depth"], linestyle=style, color=colour[r["series"]], lw=1.0)
+    for ax in prof:
         ax.set_ylim(40, -2)
         ax.set_ylabel("depth below the rim (mm)")
         ax.axhline(0, color="k", lw=0.6)
-    axes[0].set_xlabel("grains' speed along the rim's motion (m/s)")
-    axes[1].set_xlabel("equivalent plastic strain rate gdot_p (1/s)")
-    axes[0].legend(fontsize=7)
-    for i, name in enumerate(series):
-        sub = [r for r in rows if r["series"] == name]
+    prof[0].set_xlabel("grains' speed along the rim's motion (m/s)")
+    prof[1].set_xlabel("equivalent plastic strain rate gdot_p (1/s)")
+    for name in series:
+        sub = sorted((r for r in rows if r["series"] == name), key=lambda r: r["cell_mm"])
         h = np.array([r["cell_mm"] for r in sub])
-        marker = MARKERS[i % len(MARKERS)]
-        for key, color, fill, ax in (("width_90_10_mm", "C0", None, axes[2]), ("width_75_25_mm", "C1", "none", axes[2]),
-                                     ("gdot_p99", "C2", None, axes[3])):
-            label = f"{name}: " + ("99th percentile" if key == "gdot_p99" else f"{key[6:11].replace('_', '-')} width")
-            if (name, key) in fits:
-                b, c = fits[(name, key)]
-                hh = np.geomspace(h.min(), h.max(), 20)
-                ax.loglog(hh, c * hh**b, "--", color=color, lw=0.8)
-                label += f" ~ h^{b:.2f}"
-            ax.loglog(h, [r[key] for r in sub], marker, color=color, mfc=fill, label=label)
-    for ax in axes[2:]:
+        for ax, key, fill in ((conv[0], "width_90_10_mm", None), (conv[0], "width_75_25_mm", "none"),
+                              (conv[1], "gdot_p99", None), (conv[2], "fz", None)):
+            ax.plot(h, [r[key] for r in sub], "o-" if fill is None else "s--", color=colour[name], mfc=fill, lw=1.0, ms=4)
+    for ax in conv:
+        ax.set_xscale("log")
         ax.set_xlabel("cell size h (mm)")
-        ax.legend(fontsize=6)
-    axes[2].set_ylabel("width of the sheared layer (mm)")
-    axes[2].set_title("a width set by the grid goes as h^1; a converged one as h^0", fontsize=9)
-    axes[3].set_ylabel("gdot_p near the wheel (1/s)")
-    axes[3].set_title("99th percentile over the points shearing > 1/s", fontsize=9)
+        ax.set_xticks(cells, [f"{c:g}" for c in cells])
+        ax.minorticks_off()
+    conv[0].set_yscale("log")
+    conv[0].set_ylabel("width of the sheared layer (mm): 90-10 (o), 75-25 (s)")
+    conv[0].set_title("a width set by the grid goes as h^1; a converged one as h^0", fontsize=9)
+    conv[1].set_yscale("log")
+    conv[1].set_ylabel("gdot_p near the wheel (1/s)")
+    conv[1].set_title("99th percentile over the points shearing > 1/s", fontsize=9)
+    conv[2].set_ylabel("lift fz on the wheel (N)")
+    conv[2].set_title("mean force over the window", fontsize=9)
+    handles = [Line2D([], [], color=colour[name], marker="o", lw=1.0,
+                      label=name + "".join(f"; {k[6:11].replace('_', '-') if k != 'gdot_p99' else '99th pct'} ~ h^{fits[(name, k)][0]:.2f}"
+                                           for k in FITTED if (name, k) in fits and k != "width_75_25_mm"))
+               for name in series]
+    handles += [Line2D([], [], color="k", linestyle=LINE_STYLES[i % len(LINE_STYLES)], label=f"profiles: {c:g} mm cells")
+                for i, c in enumerate(cells)]
+    key_ax.legend(handles=handles, loc="center", fontsize=7, frameon=False)
     r0 = rows[0]
     fig.suptitle(f"The sheared layer below the wheel held at a fixed state ({r0['omega_rpm']:g} RPM, centre "
                  f"{1e3 * r0['z']:.1f} mm above the floor, v {r0['vx_wheel']:.3f} m/s)", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
