@@ -44,7 +44,10 @@ META = "fixed_state.json"
 
 def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     """The coupled wheel's config with the body held at height z, moving at (vx, omega)."""
-    scenario = without_lugs(grousered_wheel_scenario()) if args.smooth else grousered_wheel_scenario()
+    scenario = grousered_wheel_scenario()
+    if args.lug_width is not None:
+        scenario = scenario.model_copy(update=dict(lug_width=args.lug_width))
+    scenario = without_lugs(scenario) if args.smooth else scenario
     domain = tuple(args.domain)
     cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in domain)
     settings = paper_settings("wheel").model_copy(update=dict(
@@ -74,6 +77,7 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
 def run(args: argparse.Namespace) -> None:
     tag = f"z{1e3 * args.z:.1f}mm_v{1e3 * args.vx:.1f}mm_s_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}"
     tag += "_smooth" if args.smooth else ""
+    tag += f"_lug{1e3 * args.lug_width:g}mm" if args.lug_width is not None else ""
     tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
     tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
     tag += f"_ngf{1e3 * args.fluidity_diameter:g}mm" if args.fluidity_diameter is not None else ""
@@ -86,7 +90,8 @@ def run(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     meta = {"z": args.z, "vx": args.vx, "omega_rpm": args.rpm, "cell_mm": args.cell_mm, "band_cells": args.band,
-            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth, "cfl": args.cfl}  # fmt: skip
+            "bed_depth": args.bed_depth, "domain": list(args.domain), "smooth": args.smooth, "cfl": args.cfl,
+            "lug_width": args.lug_width if args.lug_width is not None else grousered_wheel_scenario().lug_width}  # fmt: skip
     # (the material law, viscosity, mu_i or fluidity, is in the run folder's config.json)
     (out / META).write_text(json.dumps(meta, indent=1))
 
@@ -185,6 +190,8 @@ def main() -> None:
     r.add_argument("--start-x", type=float, default=0.15)
     r.add_argument("--threads", type=int, default=2)
     r.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
+    r.add_argument("--lug-width", type=float, default=None, metavar="W",
+                   help="m, grouser thickness (default: Table S1's; a check of the grousers' resolution)")
     r.add_argument("--snapshot-every", type=float, default=None, metavar="S",
                    help="s: particle snapshots (VTK + PNG, for examples/shear_layer.py)")
     r.add_argument("--viscosity", type=float, default=0.0, metavar="ETA",

@@ -62,6 +62,7 @@ from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import MPMSettings
 
 META = "fixed_state.json"
+LUG_WIDTH = grousered_wheel_scenario().lug_width  # m, Table S1's grouser thickness (named in a series only when not this)
 RIM_RADIUS = grousered_wheel_scenario().radius  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
 DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
 FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
@@ -159,7 +160,7 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     xi = cooperativity_length(run_dir, material, ts, h)
     return {
         "series": series_name(smooth, meta["domain"], material.get("viscosity", 0.0), material.get("mu_i"), material.get("fluidity"),
-                              meta.get("cfl", DEFAULT_CFL)),
+                              meta.get("cfl", DEFAULT_CFL), meta.get("lug_width", LUG_WIDTH)),
         "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
         "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(material.get("viscosity", 0.0)),
         "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
@@ -196,11 +197,13 @@ def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float
 
 
 def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None = None,
-                fluidity: dict | None = None, cfl: float = 0.3) -> str:
-    """'grousered' or 'smooth rim', with the box when it is not the default 0.7 m x 0.4 m, the
+                fluidity: dict | None = None, cfl: float = 0.3, lug_width: float | None = None) -> str:
+    """'grousered' (with the grouser thickness when not Table S1's) or 'smooth rim', with the box
+    when it is not the default 0.7 m x 0.4 m, the
     viscous overstress, the mu(I) law or the nonlocal fluidity when there is one, and the time
     step's CFL number when it is not the default."""
     name = "smooth rim" if smooth else "grousered"
+    name += f" ({1e3 * lug_width:g} mm grousers)" if not smooth and lug_width not in (None, LUG_WIDTH) else ""
     name += "" if tuple(domain) == (0.7, 0.4) else f", {domain[0]:g} m x {domain[1]:g} m box"
     name += f", eta {viscosity:g} Pa s" if viscosity > 0.0 else ""
     name += f", mu(I) d {1e3 * mu_i['grain_diameter']:g} mm" if mu_i else ""
