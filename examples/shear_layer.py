@@ -197,11 +197,10 @@ def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float
 
 
 def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None = None,
-                fluidity: dict | None = None, cfl: float = 0.3, lug_width: float | None = None) -> str:
+                fluidity: dict | None = None, cfl: float = DEFAULT_CFL, lug_width: float | None = None) -> str:
     """'grousered' (with the grouser thickness when not Table S1's) or 'smooth rim', with the box
-    when it is not the default 0.7 m x 0.4 m, the
-    viscous overstress, the mu(I) law or the nonlocal fluidity when there is one, and the time
-    step's CFL number when it is not the default."""
+    when it is not the default 0.7 m x 0.4 m, the viscous overstress, the mu(I) law or the nonlocal
+    fluidity when there is one, and the time step's CFL number when it is not the default."""
     name = "smooth rim" if smooth else "grousered"
     name += f" ({1e3 * lug_width:g} mm grousers)" if not smooth and lug_width not in (None, LUG_WIDTH) else ""
     name += "" if tuple(domain) == (0.7, 0.4) else f", {domain[0]:g} m x {domain[1]:g} m box"
