@@ -144,6 +144,12 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     assert abs(paper_smooth[1]) > abs(paper_smooth[0])  # -3.2 then -5.1 N: no limit in sight
     deficit = [lift("smooth rim, nonlocal d 3 mm", h) - lift("grousered, nonlocal d 3 mm", h) for h in (5.0, 2.5, 1.25)]
     assert deficit[0] > 1.4 * deficit[1] > 1.4 * 1.4 * deficit[2] > 0  # 22.8, 14.4, 7.7 N
+    thick = "grousered (12 mm grousers), nonlocal d 6 mm"  # grousers resolved by twice the cells
+    six_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift("grousered, nonlocal d 6 mm", h) for h in (5.0, 2.5, 1.25)]
+    thick_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift(thick, h) for h in (5.0, 2.5, 1.25)]
+    assert all(0 < t < d for t, d in zip(thick_deficit, six_deficit))  # 15.9 / 7.8 / 2.7 against 24.7 / 18.1 / 10.8 N
+    rise = lambda name: lift(name, 1.25) / lift(name, 2.5) - 1.0
+    assert 0 < rise(thick) < 0.7 * rise("grousered, nonlocal d 6 mm")  # +10.3 % against +17.8 %
     xi_cells = float(rows[("grousered, nonlocal d 6 mm", 2.5)]["xi_fast_median_cells"])
     assert xi_cells > 3.0  # the 6 mm grains' layer is resolved at 2.5 mm ...
     assert lift("grousered, nonlocal d 6 mm", 1.25) / lift("grousered, nonlocal d 6 mm", 2.5) - 1.0 > 0.1  # ... +18 %
