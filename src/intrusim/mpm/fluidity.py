@@ -180,16 +180,18 @@ def fluidity_jacobi_kernel(rows: bool):
     return _JACOBI_KERNELS[bool(rows)]
 
 
-def _make_jacobi_kernel(rows: bool):
-    @ti.func
-    def sweep_node(src: ti.template(), g_in: ti.template(), g_out: ti.template(), excess: ti.template(), i, j,
-                   kappa, last: ti.template()):
-        gn = _jacobi_node(src, g_in, i, j, kappa)
-        g_out[i, j] = gn
-        if ti.static(last):
-            s = src[i, j]
-            excess[i, j] = gn - (s[1] / s[0] if s[0] > 0.0 else 0.0 * kappa)
+@ti.func
+def _sweep_node(src: ti.template(), g_in: ti.template(), g_out: ti.template(), excess: ti.template(), i, j,
+                kappa, last: ti.template()):
+    """g_out[i, j] from g_in (:func:`_jacobi_node`); in the ``last`` sweep also the node's excess g - g_loc."""
+    gn = _jacobi_node(src, g_in, i, j, kappa)
+    g_out[i, j] = gn
+    if ti.static(last):
+        s = src[i, j]
+        excess[i, j] = gn - (s[1] / s[0] if s[0] > 0.0 else 0.0 * kappa)
 
+
+def _make_jacobi_kernel(rows: bool):
     @ti.kernel
     def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(),
                         excess: ti.types.ndarray(), box: ti.types.ndarray(), kappa: float):
@@ -204,10 +206,10 @@ def _make_jacobi_kernel(rows: bool):
                 ti.loop_config(block_dim=ROW_GRAIN)
                 for i in range(u0, u1):
                     for j in range(u2, u3):
-                        sweep_node(src, g_in, g_out, excess, i, j, kappa, sweep == 1)
+                        _sweep_node(src, g_in, g_out, excess, i, j, kappa, sweep == 1)
             else:
                 for q in range(ti.max(u1 - u0, 0) * nj):
-                    sweep_node(src, g_in, g_out, excess, u0 + q // nj, u2 + q % nj, kappa, sweep == 1)
+                    _sweep_node(src, g_in, g_out, excess, u0 + q // nj, u2 + q % nj, kappa, sweep == 1)
 
     return fluidity_jacobi
 
