@@ -57,6 +57,7 @@ import numpy as np
 
 from intrusim.analysis.steady import interval_means
 from intrusim.mpm.config import FluidityConfig
+from intrusim.mpm.constitutive import pressure as mean_pressure
 from intrusim.params import RPM, table_s1
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import MPMSettings
@@ -187,7 +188,7 @@ def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float
         step = int(json.loads(bytes(z["meta"]).decode())["step_count"])
         x, sig, syy, gd = z["x"], z["sigma"], z["s_yy"], z["gdot_p"]
     xc, zc = (float(np.interp(step, ts["step"], ts[c])) for c in ("x", "z"))
-    pressure = -(sig[:, 0, 0] + sig[:, 1, 1] + syy) / 3.0
+    pressure = mean_pressure(sig, syy)
     dev = np.stack([sig[:, 0, 0] + pressure, sig[:, 1, 1] + pressure, syy + pressure])
     tau = np.sqrt(0.5 * (np.sum(dev**2, axis=0) + 2.0 * sig[:, 0, 1] ** 2))
     near = (np.abs(x[:, 0] - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (x[:, 1] > zc + FIELD_BOX[2])
