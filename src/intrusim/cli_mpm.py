@@ -221,7 +221,7 @@ def _run_solver(solver, t_end: float) -> None:
 
     bar, update = _progress_bar(t_end)
     try:
-        solver.run(t_end=t_end, progress=update)
+        solver.run(t_end=t_end, progress=update, checkpoint_end=False)  # the end state below, with or without a schedule
         update(solver)
     except SimulationError as err:
         typer.echo(f"error: {err}", err=True)

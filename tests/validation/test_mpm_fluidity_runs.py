@@ -40,7 +40,7 @@ def test_with_poppy_seed_grains_the_nonlocal_law_drags_as_the_paper_law_within_a
     assert drag[(0.64, "nonlocal")] > drag[(0.64, "paper")]  # mu >= mu_s + b I where it flows
 
 
-def test_a_killed_nonlocal_run_resumes_on_the_uninterrupted_track(tmp_path):
+def test_a_killed_nonlocal_run_resumes_on_the_uninterrupted_track(tmp_path, run_killed_after_second_checkpoint):
     def config(name):
         case = PlateDragCase(depth=0.03, speed=0.3, travel=0.012, cells=(40, 20), domain=(0.2, 0.1), bed_height=0.07)
         cfg = _with_fluidity(case.config(directory=str(tmp_path / name)))
@@ -51,10 +51,7 @@ def test_a_killed_nonlocal_run_resumes_on_the_uninterrupted_track(tmp_path):
     full = Solver(config("full"))
     full.run()
     assert full.fluidity is not None and full.fluidity.to_numpy().max() > 1.0  # the plate makes it flow
-    killed = Solver(config("killed"))
-    ckpt_steps = int(round(killed.cfg.output.checkpoint_every / killed.dt))
-    killed.run(t_end=(2 * ckpt_steps + 7) * killed.dt)
-    del killed
+    ckpt_steps = run_killed_after_second_checkpoint(config("killed"))
     resumed = Solver.resume(tmp_path / "killed")
     assert resumed.step_count == 2 * ckpt_steps and resumed.fluidity.to_numpy().max() > 1.0
     resumed.run()

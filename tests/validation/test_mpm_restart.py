@@ -21,17 +21,12 @@ def _config(tmp_path, name):
     return cfg
 
 
-def test_restart_reproduces_uninterrupted_run(tmp_path):
+def test_restart_reproduces_uninterrupted_run(tmp_path, run_killed_after_second_checkpoint):
     full = Solver(_config(tmp_path, "full"))
     full.run()
     ref = full.particle_fields()
 
-    cfg = _config(tmp_path, "killed")
-    killed = Solver(cfg)
-    # "kill" the run a few steps after the second checkpoint (t_end/2): stop stepping there
-    ckpt_steps = int(round(cfg.output.checkpoint_every / killed.dt))
-    killed.run(t_end=(2 * ckpt_steps + 7) * killed.dt)
-    del killed
+    ckpt_steps = run_killed_after_second_checkpoint(_config(tmp_path, "killed"))
 
     resumed = Solver.resume(tmp_path / "killed")
     assert resumed.step_count == 2 * ckpt_steps
@@ -58,18 +53,14 @@ def test_drag_force_on_a_plate_comes_from_the_nodes_ahead_of_it(tmp_path):
     assert total[0] < 0.0 and abs(total[0] - ahead[0]) < 0.05 * abs(total[0])
 
 
-def test_checkpoint_from_before_the_front_rear_split_resumes(tmp_path):
+def test_checkpoint_from_before_the_front_rear_split_resumes(tmp_path, run_killed_after_second_checkpoint):
     # a checkpoint that holds the total impulse only, no part from ahead and no ahead mark: the
     # resumed run gives the same totals as the uninterrupted one, and from the first row after it the same split
     from intrusim.mpm import io as mpm_io
 
     full = Solver(_config(tmp_path, "full"))
     full.run()
-    cfg = _config(tmp_path, "old")
-    killed = Solver(cfg)
-    ckpt_steps = int(round(cfg.output.checkpoint_every / killed.dt))
-    killed.run(t_end=(2 * ckpt_steps + 3) * killed.dt)
-    del killed
+    run_killed_after_second_checkpoint(_config(tmp_path, "old"))
     path = tmp_path / "old" / "checkpoint.npz"
     arrays, meta = mpm_io.load_checkpoint(path)
     del meta["impulse_ahead"], meta["impulse_mark_ahead"]
@@ -117,3 +108,21 @@ def test_a_state_carried_on_by_another_solver_keeps_its_clock_and_bodies(tmp_pat
     assert c.step_count == src.step_count + 3
     with pytest.raises(ValueError, match="body states"):
         c.start_from(0, [])
+
+
+def test_a_run_keeps_its_end_state_and_an_extension_goes_on_from_it(tmp_path):
+    """A run that ends between two scheduled checkpoints checkpoints its end state; a longer run
+    resumed from its folder starts there and matches one run to the longer time."""
+    cfg = _config(tmp_path, "short")
+    short = Solver(cfg)
+    ckpt_steps = int(round(cfg.output.checkpoint_every / short.dt))
+    n_short = 2 * ckpt_steps + 7  # not on the checkpoint schedule
+    short.run(t_end=n_short * short.dt)
+    resumed = Solver.resume(tmp_path / "short")
+    assert resumed.step_count == n_short
+    resumed.run()
+
+    full = Solver(_config(tmp_path, "full"))
+    full.run()
+    for key in ("x", "v", "sigma", "s_yy", "vol", "eps_p"):
+        np.testing.assert_array_equal(resumed.particle_fields()[key], full.particle_fields()[key], err_msg=key)

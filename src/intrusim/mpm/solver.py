@@ -228,8 +228,14 @@ class Solver:
         return d
 
     # ------------------------------------------------------------------ run loop and files
-    def run(self, t_end: float | None = None, progress=None) -> list[dict]:
-        """Step to ``t_end`` (default cfg.time.t_end), recording, checking and saving on schedule."""
+    def run(self, t_end: float | None = None, progress=None, checkpoint_end: bool = True) -> list[dict]:
+        """Step to ``t_end`` (default cfg.time.t_end), recording, checking and saving on schedule.
+
+        With ``output.checkpoint_every`` set and ``checkpoint_end``, the run folder's checkpoint is also
+        written at ``t_end`` (when that is not on the schedule), so that the end state is kept and an
+        extension of the run starts there; a run killed before its end resumes from its last scheduled
+        checkpoint. A driver that calls ``run`` chunk by chunk passes ``checkpoint_end=False`` and
+        checkpoints its own end."""
         out = self.cfg.output
         t_end = self.cfg.time.t_end if t_end is None else t_end
         n_end = int(round(t_end / self.dt))
@@ -256,6 +262,8 @@ class Solver:
                 if ckpt and n % ckpt == 0:
                     self.checkpoint_run_folder()
         if self.run_dir is not None:
+            if checkpoint_end and ckpt and self.step_count % ckpt != 0:  # the end state: a longer run goes on from here
+                self.checkpoint_run_folder()
             mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
         return self.rows
 

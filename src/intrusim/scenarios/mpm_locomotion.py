@@ -340,7 +340,7 @@ def run_mpm_steady(
     near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
         t_next = min(t_next + step_t, s.t_max)
-        solver.run(t_end=t_next)
+        solver.run(t_end=t_next, checkpoint_end=False)  # checkpoints on schedule; the end state below
         st = body.state
         if progress is not None:
             progress({"t": solver.t, "x": st.x, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
