@@ -36,8 +36,10 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
     python examples/mpm_fixed_state.py run ... [--smooth] --fluidity-diameter 6e-3 --out runs/shear_ngf   # 5, 2.5, 1.25 mm;
     python examples/mpm_fixed_state.py run ... --smooth --fluidity-diameter 3e-3 --out runs/shear_ngf     # (item 8)
     python examples/mpm_fixed_state.py run --cell-mm 2.5 ... [--fluidity-diameter 3e-3] --cfl 0.15 --out runs/shear_ngf|runs/shear_dt
-    python examples/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \
-        runs/shear_dt --out docs/figures/shear_layer
+    python examples/mpm_fixed_state.py run --cell-mm 0.625 ... --t-max 0.4 --domain 0.45 0.4 --fluidity-diameter 6e-3 \\
+        --snapshot-every 0.025 --out runs/shear_ngf_small                   # and 1.25 mm, the same box (item 9)
+    python examples/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \\
+        runs/shear_dt runs/shear_ngf_small --out docs/figures/shear_layer
 
 Writes NAME.csv (one row per run), NAME_profiles.csv (the binned profiles), NAME.png (profiles,
 widths, the 99th percentile and the lift against the cell size) and NAME_fields.png (gdot_p around the
@@ -180,9 +182,10 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
 
 def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float) -> float:
     """Median cooperativity length A d / sqrt(|mu - mu_s|), m, over the points around the wheel
-    shearing faster than FLOW_RATES[1] at the run's last checkpoint; NaN without the nonlocal fluidity."""
+    shearing faster than FLOW_RATES[1] at the run's last checkpoint; NaN without the nonlocal fluidity,
+    or without a checkpoint (runs shorter than their checkpoint interval, before the solver kept its end state)."""
     fluidity = material.get("fluidity")
-    if not fluidity:
+    if not fluidity or not (run_dir / "checkpoint.npz").exists():
         return float("nan")
     with np.load(run_dir / "checkpoint.npz") as z:
         step = int(json.loads(bytes(z["meta"]).decode())["step_count"])
