@@ -176,3 +176,14 @@ def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
     assert 0.8 < deficit[1] / deficit[0] < 1.0  # 10.8 -> 9.7 N
     width = [float(rows[(box, h)]["width_90_10_mm"]) for h in (1.25, 0.625)]
     assert width[1] == pytest.approx(width[0], rel=0.02)  # 32.0 and 31.9 mm
+
+
+def test_at_0625_mm_the_smooth_rim_holds_its_lift():
+    """docs/results.md item 9, the smooth rim's registered check: with the nonlocal fluidity (6 mm
+    grains) its 0.625 mm lift lies within 1 % of the 1.25 mm one, and the grousered wheel's deficit
+    at equal cells stays at 9-10.5 N."""
+    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
+    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    smooth, grousered = "smooth rim, 0.45 m x 0.4 m box, nonlocal d 6 mm", "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm"
+    assert lift(smooth, 0.625) == pytest.approx(lift("smooth rim, nonlocal d 6 mm", 1.25), rel=0.01)
+    assert 9.0 < lift(smooth, 0.625) - lift(grousered, 0.625) < 10.5
