@@ -42,6 +42,16 @@ def _rows(path):
         return list(csv.DictReader(f))
 
 
+def _keyed(table):
+    """The table's rows by (series, cell size in mm)."""
+    return {(r["series"], float(r["cell_mm"])): r for r in table}
+
+
+def _column(rows, key):
+    """``value(series, cell_mm)``: the float in column ``key`` of that row of ``_keyed`` rows."""
+    return lambda name, h: float(rows[(name, h)][key])
+
+
 def test_committed_widths_follow_from_the_committed_profiles(script):
     table = _rows(FIG / "shear_layer.csv")
     profiles = _rows(FIG / "shear_layer_profiles.csv")
@@ -81,15 +91,15 @@ def test_the_shear_localises_further_at_every_halving_of_the_cells():
 def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
     """docs/results.md item 5: with eta = 10 Pa s the layer keeps its width and the lift moves
     1.6 % from 2.5 to 1.25 mm, against 8 % for the paper's rate-independent law."""
-    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
+    rows = _keyed(_rows(FIG / "shear_layer.csv"))
     visc, plain = "grousered, eta 10 Pa s", "grousered"
-    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    lift = _column(rows, "fz")
     assert abs(lift(visc, 1.25) / lift(visc, 2.5) - 1.0) < 0.03
     assert abs(lift(plain, 1.25) / lift(plain, 2.5) - 1.0) > 0.06
-    width = lambda name, h: float(rows[(name, h)]["width_90_10_mm"])
+    width = _column(rows, "width_90_10_mm")
     assert abs(width(visc, 1.25) / width(visc, 2.5) - 1.0) < 0.15  # 21.8 -> 19.7 mm
     assert width(plain, 1.25) / width(plain, 2.5) < 0.8  # 12.9 -> 10.0 mm
-    p99 = lambda name, h: float(rows[(name, h)]["gdot_p99"])
+    p99 = _column(rows, "gdot_p99")
     assert p99(visc, 1.25) / p99(visc, 2.5) < p99(plain, 1.25) / p99(plain, 2.5)
 
 
@@ -97,7 +107,7 @@ def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertia
     """docs/results.md item 6: with mu(I) (d = 1 mm) the fastest shear still grows at every halving
     and the lift still falls from 2.5 to 1.25 mm; under every held wheel the median I stays below 0.01."""
     table = _rows(FIG / "shear_layer.csv")
-    rows = {(r["series"], float(r["cell_mm"])): r for r in table}
+    rows = _keyed(table)
     name = "grousered, mu(I) d 1 mm"
     p99 = [float(rows[(name, h)]["gdot_p99"]) for h in (5.0, 2.5, 1.25)]
     assert p99[0] < p99[1] < p99[2] and p99[2] / p99[1] > 1.3  # 30.6 -> 46.7 /s
@@ -111,9 +121,9 @@ def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertia
 def test_the_nonlocal_fluidity_keeps_the_layer_width_but_not_the_lift():
     """docs/results.md item 7: with the nonlocal fluidity the dragged layer stops thinning (1 mm grains
     -5 % from 2.5 to 1.25 mm, 3 mm grains within 3 % over 5-1.25 mm), while the lift rises 15-20 %."""
-    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
-    width = lambda name, h: float(rows[(name, h)]["width_90_10_mm"])
-    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    width = _column(rows, "width_90_10_mm")
+    lift = _column(rows, "fz")
     d1, d3 = "grousered, nonlocal d 1 mm", "grousered, nonlocal d 3 mm"
     assert abs(width(d1, 1.25) / width(d1, 2.5) - 1.0) < 0.1  # 17.0 -> 16.1 mm
     assert width("grousered", 1.25) / width("grousered", 2.5) < 0.8  # the paper's law: 12.9 -> 10.0 mm
@@ -133,8 +143,8 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     the grousered wheel's deficit against the smooth rim about halves with the cells; neither the
     cooperativity length resolved by more cells (6 mm grains) nor half the time step stops the
     grousered wheel's rise."""
-    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
-    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    lift = _column(rows, "fz")
     steps = lambda name: np.diff([lift(name, h) for h in (5.0, 2.5, 1.25)])
     nonlocal_smooth, paper_smooth = steps("smooth rim, nonlocal d 3 mm"), steps("smooth rim")
     assert abs(nonlocal_smooth[1]) < 0.7 * abs(nonlocal_smooth[0])  # 3.95 then 2.25 N
@@ -163,8 +173,8 @@ def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
     0.625 mm the grousered lift rises 2.1 % (against 17.8 % at the halving before), and its deficit
     against the smooth rim keeps 0.90 of itself, so the registered prediction (53.2-55.3 N, a
     deficit falling to 0.53-0.73) missed: the wheel converges below the smooth rim."""
-    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
-    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    lift = _column(rows, "fz")
     box, wide, smooth = ("grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm", "grousered, nonlocal d 6 mm",
                          "smooth rim, nonlocal d 6 mm")
     assert lift(box, 1.25) == pytest.approx(lift(wide, 1.25), rel=0.002)  # 50.29 against 50.27 N
@@ -182,8 +192,8 @@ def test_at_0625_mm_the_smooth_rim_holds_its_lift():
     """docs/results.md item 9, the smooth rim's registered check: with the nonlocal fluidity (6 mm
     grains) its 0.625 mm lift lies within 1 % of the 1.25 mm one, and the grousered wheel's deficit
     at equal cells stays at 9-10.5 N."""
-    rows = {(r["series"], float(r["cell_mm"])): r for r in _rows(FIG / "shear_layer.csv")}
-    lift = lambda name, h: float(rows[(name, h)]["fz"])
+    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    lift = _column(rows, "fz")
     smooth, grousered = "smooth rim, 0.45 m x 0.4 m box, nonlocal d 6 mm", "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm"
     assert lift(smooth, 0.625) == pytest.approx(lift("smooth rim, nonlocal d 6 mm", 1.25), rel=0.01)
     assert 9.0 < lift(smooth, 0.625) - lift(grousered, 0.625) < 10.5
