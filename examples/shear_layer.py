@@ -60,6 +60,7 @@ import numpy as np
 from intrusim.analysis.steady import interval_means
 from intrusim.mpm.config import FluidityConfig
 from intrusim.mpm.constitutive import pressure as mean_pressure
+from intrusim.mpm.solver import CHECKPOINT
 from intrusim.params import RPM, table_s1
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import MPMSettings
@@ -184,10 +185,10 @@ def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float
     """Median cooperativity length A d / sqrt(|mu - mu_s|), m, over the points around the wheel
     shearing faster than FLOW_RATES[1] at the run's last checkpoint; NaN without the nonlocal fluidity,
     or without a checkpoint (runs shorter than their checkpoint interval, before the solver kept its end state)."""
-    fluidity = material.get("fluidity")
-    if not fluidity or not (run_dir / "checkpoint.npz").exists():
+    fluidity, path = material.get("fluidity"), run_dir / CHECKPOINT
+    if not fluidity or not path.exists():
         return float("nan")
-    with np.load(run_dir / "checkpoint.npz") as z:
+    with np.load(path) as z:
         step = int(json.loads(bytes(z["meta"]).decode())["step_count"])
         x, sig, syy, gd = z["x"], z["sigma"], z["s_yy"], z["gdot_p"]
     xc, zc = (float(np.interp(step, ts["step"], ts[c])) for c in ("x", "z"))
