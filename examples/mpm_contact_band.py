@@ -17,6 +17,8 @@ law with a chosen band.
         --mass-z 9.45 --t-max 3.0 --out runs/load   # the wheel 1.5x as heavy
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
         --push 0 --t-max 3.0 --out runs/push   # no forward push (Table S1's MPM runs: 4 N)
+    python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
+        --fluidity-diameter 6e-3 --t-max 3.0 --threads 2 --out runs/coupled_ngf   # nonlocal law, 6 mm grains, ~20 min
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -48,6 +50,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
+from intrusim.mpm.config import FluidityConfig
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 from intrusim.scenarios.locomotor import with_lug_count, with_mass_z
 from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_mpm_steady, summarise_run, write_result
@@ -73,11 +76,16 @@ def run(args: argparse.Namespace) -> None:
         settings = settings.model_copy(update=dict(start_depth=1e-3 * args.start_depth_mm))
     if args.push is not None:  # another constant forward push (Table S1: 4 N; < 0: a drawbar load)
         settings = settings.model_copy(update=dict(forward_force=args.push))
+    if args.fluidity_diameter is not None:  # nonlocal fluidity with grains of this size (not the paper's law)
+        if not args.fluidity_diameter > 0:
+            raise SystemExit(f"--fluidity-diameter must be > 0 m, got {args.fluidity_diameter!r}")
+        settings = settings.model_copy(update=dict(fluidity=FluidityConfig(grain_diameter=args.fluidity_diameter)))
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
     tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
     tag += "" if args.mass_z is None else f"_mz{args.mass_z:g}kg"
     tag += "" if args.push is None else f"_push{args.push:g}N"
+    tag += "" if args.fluidity_diameter is None else f"_nonlocal{1e3 * args.fluidity_diameter:g}mm"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -225,6 +233,8 @@ r.add_argument("--mass-z", type=float, default=None, metavar="KG",
                help="vertical mass of the wheel, kg (its weight m_z g; default: the scenario's, 6.3 kg for Table S1)")
 r.add_argument("--push", type=float, default=None, metavar="N",
                help="constant forward push on the wheel, N (default: Table S1's 4 N scaled by m_x; < 0 pulls back)")
+r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
+               help="nonlocal granular fluidity with grains of diameter D, m, in place of the paper's law (docs/mpm.md)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
