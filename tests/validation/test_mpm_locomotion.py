@@ -147,6 +147,33 @@ def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_ru
     assert same.run_steady("mpm", 30.0).velocity == pytest.approx(resumed.velocity, rel=1e-6)
 
 
+def test_a_killed_free_wheel_with_the_nonlocal_law_resumes_on_the_uninterrupted_track(tmp_path):
+    """The free wheel with the nonlocal fluidity (docs/results.md item 10): its checkpoint carries
+    the grid's fluidity, so a run killed after it resumes to the uninterrupted run's numbers, and
+    the law is the one configured (at these 2 cm cells it moves v by 2 % against the paper's law)."""
+    from intrusim.mpm.config import FluidityConfig
+
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3, contact_band_cells=0.0,
+                                                       fluidity=FluidityConfig(grain_diameter=6e-3)))
+    full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
+
+    def kill(p):
+        if p["t"] > 0.62:
+            raise _Killed
+
+    with pytest.raises(_Killed):
+        run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=kill)
+    seen = []
+    resumed = run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=seen.append)
+    assert seen[0]["t"] == pytest.approx(0.55, abs=1e-3)  # from the checkpoint at 0.5 s
+    assert resumed.steps == full.steps
+    for key in ("velocity", "sinkage", "slip"):
+        assert getattr(resumed, key) == pytest.approx(getattr(full, key), rel=1e-6, abs=1e-9), key
+    paper = run_mpm_steady(sc, s.model_copy(update=dict(fluidity=None)), 30.0)
+    assert abs(full.velocity - paper.velocity) > 0.01 * paper.velocity
+
+
 def test_finished_run_with_a_later_t_max_goes_on_from_its_end_and_matches_a_run_that_long(tmp_path, capsys):
     """A run not settled by t_max can be made longer: the same case with a later t_max on its
     folder goes on from the end state (not from t = 0) and gives the numbers of a run made that
