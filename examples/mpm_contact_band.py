@@ -77,9 +77,11 @@ def run(args: argparse.Namespace) -> None:
     if args.push is not None:  # another constant forward push (Table S1: 4 N; < 0: a drawbar load)
         settings = settings.model_copy(update=dict(forward_force=args.push))
     if args.fluidity_diameter is not None:  # nonlocal fluidity with grains of this size (not the paper's law)
-        if not args.fluidity_diameter > 0:
-            raise SystemExit(f"--fluidity-diameter must be > 0 m, got {args.fluidity_diameter!r}")
-        settings = settings.model_copy(update=dict(fluidity=FluidityConfig(grain_diameter=args.fluidity_diameter)))
+        try:
+            fluidity = FluidityConfig(grain_diameter=args.fluidity_diameter)
+        except ValidationError as e:
+            raise SystemExit(f"bad --fluidity-diameter: {e}") from None
+        settings = settings.model_copy(update=dict(fluidity=fluidity))
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
     tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
