@@ -109,21 +109,27 @@ class _Killed(Exception):
     pass
 
 
-def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_run(tmp_path):
-    """A locomotion run stopped after its checkpoint (t = 0.5 s) and started again on the same
-    folder continues from the checkpoint: same steps, steady state and rear surface drop."""
-    sc = grousered_wheel_scenario()
-    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3))  # window from 0.4 s
-    full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
+def _killed_and_resumed(sc, s, folder):
+    """Run 30 RPM in ``folder``, kill it just after 0.62 s (after its 0.5 s checkpoint), start it
+    again on the same folder: the resumed steady state and the progress records it sent."""
 
     def kill(p):
         if p["t"] > 0.62:
             raise _Killed
 
     with pytest.raises(_Killed):
-        run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=kill)
+        run_mpm_steady(sc, s, 30.0, folder, progress=kill)
     seen = []
-    resumed = run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=seen.append)
+    return run_mpm_steady(sc, s, 30.0, folder, progress=seen.append), seen
+
+
+def test_killed_run_resumes_from_its_checkpoint_and_matches_the_uninterrupted_run(tmp_path):
+    """A locomotion run stopped after its checkpoint (t = 0.5 s) and started again on the same
+    folder continues from the checkpoint: same steps, steady state and rear surface drop."""
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3))  # window from 0.4 s
+    full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
+    resumed, seen = _killed_and_resumed(sc, s, tmp_path / "killed")
     assert seen[0]["t"] == pytest.approx(0.55, abs=1e-3)  # went on from the checkpoint at 0.5 s, not from 0
     assert resumed.steps == full.steps
     for key in ("velocity", "sinkage", "slip", "surface_drop", "surface_drop_std"):
@@ -157,15 +163,7 @@ def test_a_killed_free_wheel_with_the_nonlocal_law_resumes_on_the_uninterrupted_
     s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3, contact_band_cells=0.0,
                                                        fluidity=FluidityConfig(grain_diameter=6e-3)))
     full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
-
-    def kill(p):
-        if p["t"] > 0.62:
-            raise _Killed
-
-    with pytest.raises(_Killed):
-        run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=kill)
-    seen = []
-    resumed = run_mpm_steady(sc, s, 30.0, tmp_path / "killed", progress=seen.append)
+    resumed, seen = _killed_and_resumed(sc, s, tmp_path / "killed")
     assert seen[0]["t"] == pytest.approx(0.55, abs=1e-3)  # from the checkpoint at 0.5 s
     assert resumed.steps == full.steps
     for key in ("velocity", "sinkage", "slip"):
