@@ -59,3 +59,19 @@ def test_the_registered_1p25_mm_outcome_met_in_one_window_of_three(history):
     met = [all(0.3 <= r <= 0.9 for r in pair) for pair in ratios]
     assert met == [True, False, False]
     assert all(0.25 < r < 0.3 for pair in ratios[1:] for r in pair)
+
+
+def test_at_90_rpm_the_nonlocal_wheel_climbs_where_the_papers_law_digs_in():
+    """2.5 mm cells, band 0, over 0.5-1.5 s: with the nonlocal law v rises and the sinkage falls in
+    every 0.25 s window; with the paper's law (wheel_band0_settling.csv) v falls and the wheel sinks."""
+    def series(name, label):
+        with (FIG / name).open(newline="") as f:
+            rows = [r for r in csv.DictReader(f) if r["label"] == label and 0.5 <= float(r["t_start"]) < 1.5]
+        return [float(r["velocity"]) for r in rows], [float(r["sinkage"]) for r in rows]
+
+    v, s = series("wheel_90rpm_nonlocal.csv", "90 RPM, 2.5 mm cells")
+    vp, sp = series("wheel_band0_settling.csv", "90 RPM")
+    assert len(v) == len(vp) == 4
+    assert all(b > a for a, b in zip(v, v[1:])) and all(b < a for a, b in zip(s, s[1:]))
+    assert all(b < a for a, b in zip(vp, vp[1:])) and all(b > a for a, b in zip(sp, sp[1:]))
+    assert min(v) > 1.5 * max(vp) and max(s) < min(sp)
