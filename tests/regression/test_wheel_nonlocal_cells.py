@@ -15,12 +15,16 @@ CELLS = {"5 mm cells": 5.0, "2.5 mm cells": 2.5, "1.25 mm cells, 0.8 m box": 1.2
 REGISTERED = (1.0, 1.25, 1.5)  # window starts of the registered prediction, s
 
 
-@pytest.fixture(scope="module")
-def history():
-    """{(label, window start): (v m/s, sinkage m)}"""
-    with (FIG / "wheel_30rpm_nonlocal_cells.csv").open(newline="") as f:
+def _history(name):
+    """A run_histories.py CSV in docs/figures as {(label, window start): (v m/s, sinkage m)}."""
+    with (FIG / name).open(newline="") as f:
         rows = list(csv.DictReader(f))
     return {(r["label"], round(float(r["t_start"]), 3)): (float(r["velocity"]), float(r["sinkage"])) for r in rows}
+
+
+@pytest.fixture(scope="module")
+def history():
+    return _history("wheel_30rpm_nonlocal_cells.csv")
 
 
 def _windows(history, label, t_from=0.0, t_to=10.0):
@@ -65,9 +69,9 @@ def test_at_90_rpm_the_nonlocal_wheel_climbs_where_the_papers_law_digs_in():
     """2.5 mm cells, band 0, over 0.5-1.5 s: with the nonlocal law v rises and the sinkage falls in
     every 0.25 s window; with the paper's law (wheel_band0_settling.csv) v falls and the wheel sinks."""
     def series(name, label):
-        with (FIG / name).open(newline="") as f:
-            rows = [r for r in csv.DictReader(f) if r["label"] == label and 0.5 <= float(r["t_start"]) < 1.5]
-        return [float(r["velocity"]) for r in rows], [float(r["sinkage"]) for r in rows]
+        h = _history(name)
+        v, s = zip(*(h[(label, t)] for t in _windows(h, label, t_from=0.5, t_to=1.5)))
+        return list(v), list(s)
 
     v, s = series("wheel_90rpm_nonlocal.csv", "90 RPM, 2.5 mm cells")
     vp, sp = series("wheel_band0_settling.csv", "90 RPM")
