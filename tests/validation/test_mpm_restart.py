@@ -124,5 +124,6 @@ def test_a_run_keeps_its_end_state_and_an_extension_goes_on_from_it(tmp_path):
 
     full = Solver(_config(tmp_path, "full"))
     full.run()
+    got, want = resumed.particle_fields(), full.particle_fields()
     for key in ("x", "v", "sigma", "s_yy", "vol", "eps_p"):
-        np.testing.assert_array_equal(resumed.particle_fields()[key], full.particle_fields()[key], err_msg=key)
+        np.testing.assert_array_equal(got[key], want[key], err_msg=key)
