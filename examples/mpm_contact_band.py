@@ -82,12 +82,18 @@ def run(args: argparse.Namespace) -> None:
         except ValidationError as e:
             raise SystemExit(f"bad --fluidity-diameter: {e}") from None
         settings = settings.model_copy(update=dict(fluidity=fluidity))
+    if args.treadmill is not None:  # a moving window: fresh bed comes in ahead, the rut leaves behind
+        try:
+            settings = MPMSettings.model_validate({**settings.model_dump(), "treadmill": tuple(args.treadmill)})
+        except ValidationError as e:
+            raise SystemExit(f"bad --treadmill: {e}") from None
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"
     tag += "" if args.bed_depth is None else f"_bed{args.bed_depth:g}m"
     tag += f"_start{args.start_depth_mm:g}mm" if args.start_depth_mm else ""
     tag += "" if args.mass_z is None else f"_mz{args.mass_z:g}kg"
     tag += "" if args.push is None else f"_push{args.push:g}N"
     tag += "" if args.fluidity_diameter is None else f"_nonlocal{1e3 * args.fluidity_diameter:g}mm"
+    tag += "" if args.treadmill is None else f"_treadmill{args.treadmill[0]:g}-{args.treadmill[1]:g}m"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -237,6 +243,9 @@ r.add_argument("--push", type=float, default=None, metavar="N",
                help="constant forward push on the wheel, N (default: Table S1's 4 N scaled by m_x; < 0 pulls back)")
 r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
                help="nonlocal granular fluidity with grains of diameter D, m, in place of the paper's law (docs/mpm.md)")
+r.add_argument("--treadmill", type=float, nargs=2, metavar=("X_TRIGGER", "X_TARGET"), default=None,
+               help="moving window: each time the wheel centre passes X_TRIGGER (m), the scene moves back to put it at "
+                    "X_TARGET, the rut leaving on the left and fresh bed coming in on the right; the run lasts --t-max")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")

@@ -24,7 +24,7 @@ from .diagnostics import (
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax, fluidity_sources_kernel
 from .grid import Grid, grid_update
 from .intruder import Intruder
-from .particles import Particles
+from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
 from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
@@ -100,6 +100,7 @@ class Solver:
         self._impulse_mark = [np.zeros(3) for _ in self.intruders]
         self._impulse_mark_ahead = [np.zeros(3) for _ in self.intruders]
         self._step_mark = 0
+        self.x_offset = 0.0  # m, how far shift_window has moved the scene back (bed frame x = x + x_offset)
         self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
 
     # ------------------------------------------------------------------ the MPM step
@@ -207,6 +208,7 @@ class Solver:
             pre = "" if k == 0 else f"b{k}_"
             st = body.state
             row.update({f"{pre}{n}": getattr(st, n) for n in ("x", "z", "theta", "vx", "vz", "omega")})
+            row[f"{pre}x"] += self.x_offset  # in the bed's frame, across window shifts
             # the total, then the part from the grid nodes ahead of the reference point (x > x_body;
             # behind = total - ahead)
             for suffix, impulse, marks in (("", body.contact.read_impulse(), self._impulse_mark),
@@ -226,6 +228,48 @@ class Solver:
         d["pressure"] = pressure(d["sigma"], d["s_yy"])
         d["density"] = d["mass"] / d["vol"]
         return d
+
+    # ------------------------------------------------------------------ moving window
+    def shift_window(self, shift: float) -> None:
+        """Move the scene back by ``shift`` (m, a whole number of cells) along x: a treadmill under
+        the bodies, so a long run fits a short domain.
+
+        x -> x - shift for the points, the bodies and the fluidity's warm start; the points that
+        leave through the left side are dropped; a strip of fresh bed (the configured bed's own
+        points there, at rest in its geostatic state) fills the right side. Rows keep x in the bed's
+        frame (``x_offset``). Only for scenes without static obstacles (they would move too)."""
+        n_cells = int(round(shift / self.h))
+        if n_cells < 1 or abs(n_cells * self.h - shift) > 1e-9 * self.h:
+            raise InputError(f"shift must be a positive whole number of cells ({self.h:g} m), got {shift!r}")
+        if self.cfg.obstacles:
+            raise InputError("shift_window moves every body: it is not for scenes with static obstacles")
+        lx = self.cfg.domain.size[0]
+        if shift >= lx:
+            raise InputError(f"shift ({shift:g} m) must be shorter than the domain ({lx:g} m)")
+        d = self.particles.to_numpy()
+        keep = d["x"][:, 0] >= shift
+        fresh = self._fresh_bed(lx - shift)
+        d = {k: np.concatenate([v[keep], fresh[k]]) for k, v in d.items()}
+        d["x"][: int(keep.sum()), 0] -= shift
+        self.particles = Particles(d)
+        self._plans.clear()  # the launches hold the old arrays
+        self._graphs.clear()
+        if self.fluidity is not None:  # nodes move n_cells to the left; the fresh bed's start at rest
+            g = self.fluidity.to_numpy()
+            g[:-n_cells] = g[n_cells:]
+            g[-n_cells:] = 0.0
+            self.fluidity.load(g)
+        for body in self.intruders:
+            body.state.x -= shift
+        self.x_offset += shift
+
+    def _fresh_bed(self, x_from: float) -> dict[str, np.ndarray]:
+        """Every particle field of the configured bed's points at x > ``x_from``, at rest."""
+        cfg = self.cfg
+        bed = build_bed(cfg.domain.size, self.h, cfg.domain.particles_per_cell, cfg.bed, cfg.material, self.gravity)
+        sel = bed["x"][:, 0] > x_from
+        n = int(sel.sum())
+        return {name: (bed[name][sel] if name in bed else np.zeros((n, *shape))) for name, (shape, _) in FIELDS.items()}
 
     # ------------------------------------------------------------------ run loop and files
     def run(self, t_end: float | None = None, progress=None, checkpoint_end: bool = True) -> list[dict]:
@@ -323,7 +367,7 @@ class Solver:
         """Atomic checkpoint of everything needed to continue bit-for-bit (single thread)."""
         meta = {
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
-            "step_mark": self._step_mark,
+            "step_mark": self._step_mark, "x_offset": self.x_offset,
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
             "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
@@ -351,7 +395,13 @@ class Solver:
         grid_fluidity = arrays.pop(FLUIDITY_KEY, None)
         if self.fluidity is not None and grid_fluidity is not None:
             self.fluidity.load(grid_fluidity)
-        self.particles.load(arrays)
+        if len(arrays["x"]) == self.particles.n:
+            self.particles.load(arrays)
+        else:  # a moving window (shift_window) changed the number of points
+            self.particles = Particles(arrays)
+            self._plans.clear()
+            self._graphs.clear()
+        self.x_offset = float(meta.get("x_offset", 0.0))
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
         self._step_mark = int(meta["step_mark"])

@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
@@ -61,6 +61,11 @@ class MPMSettings(Config):
         23.0 kg, since rig friction scales with the carried mass (small wheel: 0.5 N); runner: 0.
     ramp_time : s, linear spin-up of omega; settle_time : s, transient excluded from averages.
     t_max : s, longest run; wall_margin : m, stop when the body's front is this close to the wall.
+    treadmill : (x_trigger, x_target), m, or None. A moving window: at a chunk's end with the body
+        centre past x_trigger, the scene moves back a whole number of cells to put it at (just
+        above) x_target, the rut that leaves the left side is dropped and fresh bed comes in on the
+        right (:meth:`~intrusim.mpm.solver.Solver.shift_window`). A run then lasts t_max in a
+        short box; the time series' x stays in the bed's frame. None: the body runs to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
     cfl : C of dt = C h sqrt(rho_c / E).
     contact_band_cells : grid nodes closer than this many cells outside the body are in contact
@@ -89,6 +94,7 @@ class MPMSettings(Config):
     settle_time: float = Field(0.5, ge=0.0)
     t_max: float = Field(4.0, gt=0.0)
     wall_margin: float = Field(0.08, ge=0.0)
+    treadmill: tuple[float, float] | None = None
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
     contact_band_cells: float = Field(1.0, ge=0.0)
@@ -101,6 +107,21 @@ class MPMSettings(Config):
     @property
     def h(self) -> float:
         return self.domain[0] / self.cells[0]
+
+    @model_validator(mode="after")
+    def _treadmill_in_box(self) -> "MPMSettings":
+        if self.treadmill is not None:
+            trigger, target = self.treadmill
+            if not 0.0 < target < trigger < self.domain[0] - self.wall_margin:
+                raise ValueError(
+                    f"treadmill (x_trigger, x_target) = {self.treadmill} must satisfy "
+                    f"0 < x_target < x_trigger < domain length - wall_margin ({self.domain[0] - self.wall_margin:g} m)"
+                )
+            if self.start_x >= trigger:
+                raise ValueError(f"treadmill: x_trigger ({trigger:g} m) must lie ahead of start_x ({self.start_x:g} m)")
+            if trigger - target < self.h:
+                raise ValueError(f"treadmill: x_trigger - x_target must be at least one cell ({self.h:g} m)")
+        return self
 
 
 def paper_settings(body: str) -> MPMSettings:
@@ -336,6 +357,16 @@ def run_mpm_steady(
     at_chunk_end = solver.step_count > 0 and solver.step_count == int(round(t_next / solver.dt))
     if at_chunk_end and solver.t >= t_avg and not any(abs(t - solver.t) < 0.5 * solver.dt for t, _ in drops):
         sample()  # killed between the checkpoint and the progress file of this chunk
+    if s.treadmill is not None and s.treadmill[0] + radius > s.domain[0] - s.wall_margin:
+        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {s.treadmill[0]:g} m would reach "
+                         f"the wall margin; use a smaller x_trigger or a longer domain")
+
+    def treadmill() -> None:
+        """At a chunk's end: the moving window's shift, if the body is past the trigger."""
+        if s.treadmill is not None and body.state.x > s.treadmill[0]:
+            solver.shift_window(math.floor((body.state.x - s.treadmill[1]) / solver.h) * solver.h)
+
+    treadmill()  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
     wall0 = time.perf_counter() - wall_before
     near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
@@ -343,7 +374,7 @@ def run_mpm_steady(
         solver.run(t_end=t_next, checkpoint_end=False)  # checkpoints on schedule; the end state below
         st = body.state
         if progress is not None:
-            progress({"t": solver.t, "x": st.x, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
+            progress({"t": solver.t, "x": st.x + solver.x_offset, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
         if run_dir is not None and s.frames_every and solver.t + 1e-9 >= next_frame:
             next_frame += s.frames_every
             _save_frame(run_dir / "frames", solver, outline)
@@ -351,12 +382,14 @@ def run_mpm_steady(
             sample()
         if run_dir is not None:
             write_progress(run_dir, drops, time.perf_counter() - wall0)
+        treadmill()
     if run_dir is not None:  # a longer run on this folder (a later t_max) goes on from here
         solver.checkpoint_run_folder()
     wall = time.perf_counter() - wall0
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
-    meta = {"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept]}
+    meta = {"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept],
+            "x_offset": solver.x_offset}
     return steady_from_series(
         series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta
     )
