@@ -15,7 +15,8 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
-          t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None):
+          t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
+          treadmill: str | None = None):
     from intrusim.mpm.config import FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
@@ -51,14 +52,30 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
         if mu_i_diameter is not None:
             raise InputError("give one of mu_i_diameter and fluidity_diameter, not both")
         settings = settings.model_copy(update=dict(fluidity=FluidityConfig(grain_diameter=float(fluidity_diameter))))
+    if treadmill is not None:  # validated with the rest of the settings (model_copy does not validate)
+        from pydantic import ValidationError
+
+        from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+        x = _numbers(treadmill, "treadmill")
+        if len(x) != 2:
+            raise InputError(f"treadmill takes X_TRIGGER,X_TARGET (two numbers, m), got {treadmill!r}")
+        try:
+            settings = MPMSettings.model_validate({**settings.model_dump(), "treadmill": tuple(x)})
+        except ValidationError as err:
+            raise InputError(f"bad treadmill: {err.errors()[0]['msg']}") from None
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
-def _rpms(text: str) -> list[float]:
+def _numbers(text: str, what: str) -> list[float]:
     try:
         return [float(s) for s in text.split(",") if s.strip()]
     except ValueError:
-        raise InputError(f"omega list must be comma-separated numbers, got {text!r}") from None
+        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
+
+
+def _rpms(text: str) -> list[float]:
+    return _numbers(text, "omega list")
 
 
 @mpm_app.command("steady")
@@ -75,10 +92,11 @@ def steady(
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
+    treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -122,6 +140,7 @@ def sweep(
     t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
+    treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -130,7 +149,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

@@ -2,6 +2,7 @@
 
 import csv
 import json
+import re
 
 import pytest
 from typer.testing import CliRunner
@@ -143,6 +144,24 @@ def test_mu_i_and_fluidity_reach_the_material_and_bad_diameters_are_refused():
     assert r.exit_code == 2 and "fluidity_diameter must be > 0" in r.output
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--fluidity-diameter", "1e-3", "--mu-i-diameter", "1e-3"])
     assert r.exit_code == 2 and "not both" in r.output
+
+
+def test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_compute(tmp_path):
+    from intrusim.cli_mpm import _case
+
+    assert _case("wheel", True, None, None, None, treadmill="0.5,0.35").mpm.treadmill == (0.5, 0.35)
+    assert _case("wheel", True, None, None, None).mpm.treadmill is None
+    for bad, reason in (("0.5", "two numbers"), ("0.5,x", "comma-separated numbers"),
+                        ("0.35,0.5", "x_target < x_trigger"), ("0.1,0.05", "ahead of start_x")):
+        r = runner.invoke(app, ["mpm", "steady", "--quick", "--treadmill", bad, "--out", str(tmp_path / "t")])
+        assert r.exit_code == 2 and reason in r.output, (bad, r.output)
+    assert not any((tmp_path / "t").rglob("*.csv"))  # nothing ran
+    # a 0.6 m bed stops the wheel at t = 1.09 s (its front 8 cm from the wall, centre at 0.39 m);
+    # on the treadmill it runs to t_max and travels past the bed's end
+    r = runner.invoke(app, ["mpm", "steady", "--quick", "--length", "0.6", "--t-max", "1.6", "--treadmill", "0.3,0.2"])
+    assert r.exit_code == 0, r.output
+    assert "steady state over t = 0.60-1.59 s" in r.output
+    assert float(re.findall(r"  x = ([0-9.]+) m ", r.output)[-1]) > 0.45
 
 
 def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it(tmp_path):
