@@ -236,11 +236,14 @@ def test_the_treadmill_in_a_1_m_box_gives_the_2_m_box_wheel():
         assert sk[0] == pytest.approx(sk[1], abs=5e-4), (a, b)
 
 
-def test_a_treadmill_outside_the_box_is_refused_before_compute():
+def test_a_treadmill_outside_the_box_is_refused_before_compute(tmp_path):
     s = quick_settings("wheel")
     for bad, match in (((0.3, 0.35), "x_target < x_trigger"), ((0.95, 0.5), "x_target < x_trigger"),
                        ((0.15, 0.1), "ahead of start_x"), ((0.5, 0.49), "at least one cell")):
         with pytest.raises(ValueError, match=match):
             _with(s, treadmill=bad)
-    with pytest.raises(InputError, match="wall margin"):  # the wheel's front would pass it
-        run_mpm_steady(grousered_wheel_scenario(), _with(s, treadmill=(0.85, 0.5)), 30.0)
+    for bad, match in (((0.85, 0.5), "wall margin"),  # the wheel's front would pass it
+                       ((0.3, 0.11), "touch the left wall")):  # radius 0.106 m, 2 cm cells
+        with pytest.raises(InputError, match=match):
+            run_mpm_steady(grousered_wheel_scenario(), _with(s, treadmill=bad), 30.0, tmp_path / "run")
+        assert not (tmp_path / "run").exists()

@@ -320,6 +320,11 @@ def run_mpm_steady(
     t_avg = s.ramp_time + s.settle_time
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
+    if s.treadmill is not None and s.treadmill[0] + radius > s.domain[0] - s.wall_margin:
+        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {s.treadmill[0]:g} m would reach "
+                         f"the wall margin; use a smaller x_trigger or a longer domain")
+    if s.treadmill is not None and s.treadmill[1] - radius < s.h:
+        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_target {s.treadmill[1]:g} m would touch the left wall")
     step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
     # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
@@ -357,10 +362,6 @@ def run_mpm_steady(
     at_chunk_end = solver.step_count > 0 and solver.step_count == int(round(t_next / solver.dt))
     if at_chunk_end and solver.t >= t_avg and not any(abs(t - solver.t) < 0.5 * solver.dt for t, _ in drops):
         sample()  # killed between the checkpoint and the progress file of this chunk
-    if s.treadmill is not None and s.treadmill[0] + radius > s.domain[0] - s.wall_margin:
-        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {s.treadmill[0]:g} m would reach "
-                         f"the wall margin; use a smaller x_trigger or a longer domain")
-
     def treadmill() -> None:
         """At a chunk's end: the moving window's shift, if the body is past the trigger."""
         if s.treadmill is not None and body.state.x > s.treadmill[0]:
