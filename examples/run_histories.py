@@ -37,6 +37,9 @@ def main() -> None:
     ap.add_argument("runs", nargs="+", type=Path, help="finished run folders (timeseries.csv, config.json)")
     ap.add_argument("--label", action="append", default=None, help="a legend label per run, in order")
     ap.add_argument("--every", type=float, default=0.125, help="window length, s")
+    ap.add_argument("--steady-from", type=float, action="append", default=None, metavar="T",
+                    help="per run, in order: also write OUT_steady.csv with the run's steady state from T s on "
+                         "(v, sinkage, slip, rear surface drop; summarise_run)")
     ap.add_argument("--title", default="")
     ap.add_argument("--out", required=True, help="output stem: OUT.csv and OUT.png")
     args = ap.parse_args()
@@ -45,6 +48,8 @@ def main() -> None:
         ap.error(f"{len(labels)} labels for {len(args.runs)} runs")
     if args.every <= 0:
         ap.error("--every must be positive")
+    if args.steady_from is not None and len(args.steady_from) != len(args.runs):
+        ap.error(f"{len(args.steady_from)} --steady-from values for {len(args.runs)} runs")
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig, (ax_v, ax_s) = plt.subplots(1, 2, figsize=(10, 4))
@@ -65,6 +70,21 @@ def main() -> None:
     fig.tight_layout()
     fig.savefig(out.with_suffix(".png"), dpi=120)
     print(f"wrote {out.with_suffix('.csv')} and {out.with_suffix('.png')}")
+    if args.steady_from is not None:
+        path = out.with_name(out.name + "_steady.csv")
+        write_steady(path, args.runs, labels, args.steady_from)
+        print(f"wrote {path}")
+
+
+def write_steady(path: Path, runs: list[Path], labels: list[str], starts: list[float]) -> None:
+    """One row per run: its steady state over [start, end] (m/s, m; rear drop from progress.json)."""
+    keys = ("window_start", "window_end", "omega", "velocity", "sinkage", "slip", "surface_drop", "surface_drop_std", "drift")
+    with path.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["run", "label", *keys])
+        w.writeheader()
+        for run, label, t0 in zip(runs, labels, starts):
+            summary = summarise_run(run, t_start=t0).summary()
+            w.writerow({"run": run.name, "label": label, **{k: summary[k] for k in keys}})
 
 
 if __name__ == "__main__":
