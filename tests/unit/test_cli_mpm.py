@@ -156,7 +156,7 @@ def test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_comp
         r = runner.invoke(app, ["mpm", "steady", "--quick", "--treadmill", bad, "--out", str(tmp_path / "t")])
         assert r.exit_code == 2 and reason in r.output, (bad, r.output)
     assert not any((tmp_path / "t").rglob("*.csv"))  # nothing ran
-    # a 0.6 m bed stops the wheel at t = 1.09 s (its front 8 cm from the wall, centre at 0.39 m);
+    # a 0.6 m bed stops the wheel at t = 1.09 s (its front 8 cm from the wall, centre at 0.41 m);
     # on the treadmill it runs to t_max and travels past the bed's end
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--length", "0.6", "--t-max", "1.6", "--treadmill", "0.3,0.2"])
     assert r.exit_code == 0, r.output
