@@ -138,3 +138,23 @@ def test_the_nonlocal_wheels_sit_on_the_slip_sinkage_curve_of_the_papers_law():
         misses[label] = st["sinkage"] / (r * (c0 + c1 * s + c2 * s * s)) - 1
     assert all(-0.05 < m < 0.015 for m in misses.values()), misses
     assert min(misses.values()) < -0.04  # the 90 RPM wheel, -4.8 %
+
+
+def test_the_registered_1p25_mm_outcome_on_the_treadmill(history):
+    """Registered (1e0f4c0) before the 1.25 mm run was extended: in the 0.5 s windows 2.0-2.5 and
+    2.5-3.0 s the 1.25 mm wheel is faster and shallower than the 2.5 mm one by 0.15-0.40 of the
+    5 -> 2.5 mm step (the 5 mm run in the 2.5 m box), written as v 0.281-0.299 and 0.291-0.310 m/s,
+    sinkage 19.2-23.2 and 17.3-21.5 mm (1 mm added to the sinkage's upper edges for the treadmill).
+    Outcome: met in 2.0-2.5 s (ratios 0.22 in v, 0.18 in sinkage); in 2.5-3.0 s on the lower edge:
+    v 0.29097 m/s, 0.00003 below the range as written (rounded) but at a ratio of 0.1504, and the
+    sinkage inside its range only through the treadmill's 1 mm (ratio 0.128)."""
+    fine = "1.25 mm, treadmill in 0.8 m from 1.75 s"
+    assert _windows(history, fine, 2.0) == [2.0, 2.5]
+    (v5, s5), (v2, s2), (v1, s1) = (history[(lab, 2.0)] for lab in (LONG, FINE, fine))
+    assert 0.281 <= v1 <= 0.299 and 19.2e-3 <= s1 <= 23.2e-3
+    assert (v1 - v2) / (v2 - v5) == pytest.approx(0.22, abs=0.005) and (s1 - s2) / (s2 - s5) == pytest.approx(0.18, abs=0.005)
+    (v5, s5), (v2, s2), (v1, s1) = (history[(lab, 2.5)] for lab in (LONG, FINE, fine))
+    assert 0.291 - 5e-5 < v1 < 0.291 and 17.3e-3 <= s1 <= 21.5e-3  # v just below the written edge
+    assert 0.150 <= (v1 - v2) / (v2 - v5) < 0.151  # and just inside the ratio
+    assert (s1 - s2) / (s2 - s5) == pytest.approx(0.128, abs=0.002)  # below 0.15: the 1 mm allowance
+    assert s1 > s2 - 0.15 * (s5 - s2)  # i.e. without it the sinkage would have missed (too deep)
