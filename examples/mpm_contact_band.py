@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> None:
         settings = settings.model_copy(update=dict(fluidity=fluidity))
     if args.treadmill is not None:  # a moving window: fresh bed comes in ahead, the rut leaves behind
         try:
-            settings = MPMSettings.model_validate({**settings.model_dump(), "treadmill": tuple(args.treadmill)})
+            settings = settings.validated_copy(treadmill=tuple(args.treadmill))
         except ValidationError as e:
             raise SystemExit(f"bad --treadmill: {e}") from None
     tag = "" if args.domain is None else f"_{domain[0]:g}x{domain[1]:g}m"

@@ -55,13 +55,11 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     if treadmill is not None:  # validated with the rest of the settings (model_copy does not validate)
         from pydantic import ValidationError
 
-        from intrusim.scenarios.mpm_locomotion import MPMSettings
-
         x = _numbers(treadmill, "treadmill")
         if len(x) != 2:
             raise InputError(f"treadmill takes X_TRIGGER,X_TARGET (two numbers, m), got {treadmill!r}")
         try:
-            settings = MPMSettings.model_validate({**settings.model_dump(), "treadmill": tuple(x)})
+            settings = settings.validated_copy(treadmill=tuple(x))
         except ValidationError as err:
             raise InputError(f"bad treadmill: {err.errors()[0]['msg']}") from None
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))

@@ -194,17 +194,12 @@ def test_finished_run_with_a_later_t_max_goes_on_from_its_end_and_matches_a_run_
         short.run_steady("mpm", 30.0)
 
 
-def _with(s, **update):
-    """Settings ``s`` changed and validated again (model_copy alone does not validate)."""
-    return type(s).model_validate({**s.model_dump(), **update})
-
-
 def test_a_killed_treadmill_run_resumes_on_the_uninterrupted_track(tmp_path):
     """With the moving window the number of points changes at every shift: a run killed after its
     0.5 s checkpoint resumes from it (new point count, offset and all) to the uninterrupted run's
     numbers, the time series' x included."""
     sc = grousered_wheel_scenario()
-    s = _with(quick_settings("wheel"), t_max=0.8, settle_time=0.3, treadmill=(0.2, 0.17))
+    s = quick_settings("wheel").validated_copy(t_max=0.8, settle_time=0.3, treadmill=(0.2, 0.17))
     full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
     assert full.meta["x_offset"] >= 0.04  # the scene moved back at least twice (2 cm cells)
     resumed, seen = _killed_and_resumed(sc, s, tmp_path / "killed")
@@ -220,9 +215,9 @@ def test_the_treadmill_in_a_1_m_box_gives_the_2_m_box_wheel():
     of a 1 m box (the scene moved back 0.4 m or more by 2.4 s) moves as in a 2 m box, window by
     window (measured: v within 1.1 %, sinkage within 0.2 mm in its three 0.6 s windows)."""
     sc = grousered_wheel_scenario()
-    base = _with(quick_settings("wheel"), t_max=2.4)
-    long_box = run_mpm_steady(sc, _with(base, domain=(2.0, 0.5), cells=(100, 25)), 30.0)
-    tread = run_mpm_steady(sc, _with(base, treadmill=(0.5, 0.35)), 30.0)
+    base = quick_settings("wheel").validated_copy(t_max=2.4)
+    long_box = run_mpm_steady(sc, base.validated_copy(domain=(2.0, 0.5), cells=(100, 25)), 30.0)
+    tread = run_mpm_steady(sc, base.validated_copy(treadmill=(0.5, 0.35)), 30.0)
     assert long_box.meta["x_offset"] == 0.0 and tread.meta["x_offset"] >= 0.4
     assert tread.series["x"][-1] == pytest.approx(long_box.series["x"][-1], abs=0.01)  # bed frame
     t = tread.series["time"]
@@ -241,9 +236,9 @@ def test_a_treadmill_outside_the_box_is_refused_before_compute(tmp_path):
     for bad, match in (((0.3, 0.35), "x_target < x_trigger"), ((0.95, 0.5), "x_target < x_trigger"),
                        ((0.15, 0.1), "ahead of start_x"), ((0.5, 0.49), "at least one cell")):
         with pytest.raises(ValueError, match=match):
-            _with(s, treadmill=bad)
+            s.validated_copy(treadmill=bad)
     for bad, match in (((0.85, 0.5), "wall margin"),  # the wheel's front would pass it
                        ((0.3, 0.11), "touch the left wall")):  # radius 0.106 m, 2 cm cells
         with pytest.raises(InputError, match=match):
-            run_mpm_steady(grousered_wheel_scenario(), _with(s, treadmill=bad), 30.0, tmp_path / "run")
+            run_mpm_steady(grousered_wheel_scenario(), s.validated_copy(treadmill=bad), 30.0, tmp_path / "run")
         assert not (tmp_path / "run").exists()

@@ -43,6 +43,11 @@ class Config(BaseModel):
                 raise InputError(f"{p}: invalid TOML ({err})") from None
         return cls.from_dict(_paths_relative_to(data, p.parent), source=str(p))
 
+    def validated_copy(self, **update: Any) -> "Config":
+        """A copy with ``update`` applied, validated as a new instance (field and model validators
+        included; ``model_copy(update=...)`` validates nothing)."""
+        return type(self).model_validate({**self.model_dump(), **update})
+
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "config") -> "Config":
         try:

@@ -184,7 +184,7 @@ def with_mass_z(scenario: LocomotorScenario, mass_z: float) -> LocomotorScenario
     """The same body under another load: vertical inertia ``mass_z`` (kg; weight mass_z * g), with
     the name, the horizontal inertia, the push and the force model kept (the body is the same, so
     run folders keep their names; callers tag the load); validated (mass_z > 0)."""
-    return type(scenario).model_validate({**scenario.model_dump(), "mass_z": mass_z})
+    return scenario.validated_copy(mass_z=mass_z)
 
 
 def small_wheel_scenario() -> LocomotorScenario:
