@@ -1,11 +1,14 @@
 """Shared fixtures of the regression tests."""
 
+import csv
 import importlib.util
+import math
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+FIGURES = ROOT / "docs" / "figures"
 
 
 @pytest.fixture(scope="session")
@@ -19,3 +22,23 @@ def load_example():
         return mod
 
     return load
+
+
+class History(dict):
+    """A CSV of ``examples/run_histories.py``: {(label, window start s): (mean v m/s, mean sinkage m)}."""
+
+    def windows(self, label: str, t_from: float = 0.0, t_to: float = math.inf) -> list[float]:
+        """The window starts of one run (label) in [t_from, t_to), in order."""
+        return sorted(t for (lab, t) in self if lab == label and t_from <= t < t_to)
+
+
+@pytest.fixture(scope="session")
+def figure_history():
+    """Read ``docs/figures/NAME`` (a run_histories.py CSV) as a :class:`History`."""
+
+    def read(name: str) -> History:
+        with (FIGURES / name).open(newline="") as f:
+            return History({(r["label"], round(float(r["t_start"]), 3)): (float(r["velocity"]), float(r["sinkage"]))
+                            for r in csv.DictReader(f)})  # fmt: skip
+
+    return read

@@ -5,35 +5,20 @@ The committed histories (``examples/run_histories.py`` over the run folders, 0.2
 checked against what the docs state, the registered 1.25 mm outcome included.
 """
 
-import csv
-from pathlib import Path
-
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
 CELLS = {"5 mm cells": 5.0, "2.5 mm cells": 2.5, "1.25 mm cells, 0.8 m box": 1.25}
 REGISTERED = (1.0, 1.25, 1.5)  # window starts of the registered prediction, s
 
 
-def _history(name):
-    """A run_histories.py CSV in docs/figures as {(label, window start): (v m/s, sinkage m)}."""
-    with (FIG / name).open(newline="") as f:
-        rows = list(csv.DictReader(f))
-    return {(r["label"], round(float(r["t_start"]), 3)): (float(r["velocity"]), float(r["sinkage"])) for r in rows}
-
-
 @pytest.fixture(scope="module")
-def history():
-    return _history("wheel_30rpm_nonlocal_cells.csv")
-
-
-def _windows(history, label, t_from=0.0, t_to=10.0):
-    return sorted(t for (lab, t) in history if lab == label and t_from <= t < t_to)
+def history(figure_history):
+    return figure_history("wheel_30rpm_nonlocal_cells.csv")
 
 
 def test_the_shorter_box_leaves_the_wheel_as_it_was(history):
     """5 mm cells: the 0.8 m box gives the 1 m box's v within 0.5 % and sinkage within 0.1 mm to 2 s."""
-    ts = _windows(history, "5 mm cells, 0.8 m box", t_to=2.0)
+    ts = history.windows("5 mm cells, 0.8 m box", t_to=2.0)
     assert len(ts) == 8
     for t in ts:
         (v1, s1), (v8, s8) = history[("5 mm cells", t)], history[("5 mm cells, 0.8 m box", t)]
@@ -41,7 +26,7 @@ def test_the_shorter_box_leaves_the_wheel_as_it_was(history):
 
 
 def test_from_5_to_2p5_mm_the_wheel_runs_faster_and_shallower(history):
-    ts = _windows(history, "2.5 mm cells", t_from=0.5)
+    ts = history.windows("2.5 mm cells", t_from=0.5)
     assert len(ts) >= 8
     for t in ts:
         (v5, s5), (v2, s2) = history[("5 mm cells", t)], history[("2.5 mm cells", t)]
@@ -54,7 +39,7 @@ def test_the_registered_1p25_mm_outcome_met_in_one_window_of_three(history):
     Outcome: the direction holds in all three, the size (0.33) in the first only; after it the
     change is 0.26-0.29 of the step, a little below the registered range, and falling."""
     fine = "1.25 mm cells, 0.8 m box"
-    assert _windows(history, fine, t_from=1.0) == list(REGISTERED)
+    assert history.windows(fine, t_from=1.0) == list(REGISTERED)
     ratios = []
     for t in REGISTERED:
         (v5, s5), (v2, s2), (v1, s1) = (history[(lab, t)] for lab in CELLS)
@@ -65,12 +50,12 @@ def test_the_registered_1p25_mm_outcome_met_in_one_window_of_three(history):
     assert all(0.25 < r < 0.3 for pair in ratios[1:] for r in pair)
 
 
-def test_at_90_rpm_the_nonlocal_wheel_climbs_where_the_papers_law_digs_in():
+def test_at_90_rpm_the_nonlocal_wheel_climbs_where_the_papers_law_digs_in(figure_history):
     """2.5 mm cells, band 0, over 0.5-1.5 s: with the nonlocal law v rises and the sinkage falls in
     every 0.25 s window; with the paper's law (wheel_band0_settling.csv) v falls and the wheel sinks."""
     def series(name, label):
-        h = _history(name)
-        v, s = zip(*(h[(label, t)] for t in _windows(h, label, t_from=0.5, t_to=1.5)))
+        h = figure_history(name)
+        v, s = zip(*(h[(label, t)] for t in h.windows(label, t_from=0.5, t_to=1.5)))
         return list(v), list(s)
 
     v, s = series("wheel_90rpm_nonlocal.csv", "90 RPM, 2.5 mm cells")

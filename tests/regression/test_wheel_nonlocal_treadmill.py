@@ -21,23 +21,13 @@ def _rows(name):
         return list(csv.DictReader(f))
 
 
-def _history(name):
-    """{(label, window start): (v m/s, sinkage m)} of a run_histories.py CSV."""
-    return {(r["label"], round(float(r["t_start"]), 3)): (float(r["velocity"]), float(r["sinkage"]))
-            for r in _rows(name)}  # fmt: skip
-
-
 def _steady(name):
     return {r["label"]: {k: float(v) for k, v in r.items() if k not in ("run", "label")} for r in _rows(name)}
 
 
 @pytest.fixture(scope="module")
-def history():
-    return _history("wheel_30rpm_nonlocal_treadmill.csv")
-
-
-def _windows(history, label, t_from=0.0):
-    return sorted(t for (lab, t) in history if lab == label and t >= t_from)
+def history(figure_history):
+    return figure_history("wheel_30rpm_nonlocal_treadmill.csv")
 
 
 def _drft(omega_rpm):
@@ -51,11 +41,11 @@ def _drft(omega_rpm):
 def test_the_treadmill_gives_the_long_box_wheel_within_its_measured_error(history):
     """5 mm cells, 10 s: both treadmills against the 2.5 m box, every 0.5 s window: v within
     2.4 % (largest: -2.35 %, 1 m box, 8.5-9 s), sinkage within 1.35 mm (largest +1.31 mm, 0.8 m box)."""
-    ts = _windows(history, LONG)
+    ts = history.windows(LONG)
     assert len(ts) == 20
     worst_v, worst_s = 0.0, 0.0
     for label in TREADMILLS:
-        assert _windows(history, label) == ts
+        assert history.windows(label) == ts
         for t in ts:
             (v0, s0), (v1, s1) = history[(LONG, t)], history[(label, t)]
             worst_v, worst_s = max(worst_v, abs(v1 / v0 - 1)), max(worst_s, abs(s1 - s0))
@@ -66,7 +56,7 @@ def test_the_treadmill_gives_the_long_box_wheel_within_its_measured_error(histor
 def test_at_5_mm_the_wheel_still_climbs_after_10_s_and_2_m(history):
     """The 2.5 m box: the sinkage falls in 17 of the 18 windows after 1 s, by 7.0 mm over 1-10 s, and
     still 0.3 mm in the last second."""
-    s = [history[(LONG, t)][1] for t in _windows(history, LONG, 1.0)]
+    s = [history[(LONG, t)][1] for t in history.windows(LONG, 1.0)]
     assert sum(b < a for a, b in zip(s, s[1:])) >= 16
     assert s[0] - s[-1] == pytest.approx(7.0e-3, abs=0.2e-3)
     assert s[-3] - s[-1] > 0.2e-3
@@ -75,7 +65,7 @@ def test_at_5_mm_the_wheel_still_climbs_after_10_s_and_2_m(history):
 def test_at_2p5_mm_the_wheel_settles_on_the_treadmill(history):
     """2.5 mm: from 4.5 s on, v moves < 0.5 % and the sinkage < 0.2 mm per 0.5 s window; over
     4.5-6.0 s v 0.2905 m/s, sinkage 20.4 mm, slip 0.128, rear drop 3.0 mm (the identity psi: 11.3)."""
-    ts = _windows(history, FINE, 4.5)
+    ts = history.windows(FINE, 4.5)
     assert ts == [4.5, 5.0, 5.5]
     for a, b in zip(ts, ts[1:]):
         (va, sa), (vb, sb) = history[(FINE, a)], history[(FINE, b)]
@@ -96,14 +86,14 @@ def test_the_papers_drft_misses_the_settled_nonlocal_wheel_at_30_rpm():
     assert sink / st["sinkage"] - 1 == pytest.approx(1.07, abs=0.02)
 
 
-def test_at_90_rpm_the_nonlocal_wheel_neither_plateaus_nor_sinks_deeper():
+def test_at_90_rpm_the_nonlocal_wheel_neither_plateaus_nor_sinks_deeper(figure_history):
     """90 RPM, 2.5 mm, to 5.5 s: v rises and the sinkage falls in every 0.25 s window after 1 s, by
     < 0.5 % and < 0.5 mm per window at the end; over 4.5-5.5 s v 0.890 m/s, sinkage 19.0 mm,
     slip 0.109, rear drop 3.7 mm: 3.07x the settled 30 RPM speed, a smaller slip and no deeper
     sinkage (no plateau, no sinkage growth); DRFT (0.70 m/s, 43.3 mm): v -21 %, sinkage +128 %."""
-    h = _history("wheel_90rpm_nonlocal_treadmill.csv")
+    h = figure_history("wheel_90rpm_nonlocal_treadmill.csv")
     label = "2.5 mm, treadmill in 1 m from 1.5 s"
-    ts = _windows(h, label, 1.0)
+    ts = h.windows(label, 1.0)
     assert ts[-1] == 5.25
     v = [h[(label, t)][0] for t in ts]
     s = [h[(label, t)][1] for t in ts]
@@ -149,7 +139,7 @@ def test_the_registered_1p25_mm_outcome_on_the_treadmill(history):
     v 0.29097 m/s, 0.00003 below the range as written (rounded) but at a ratio of 0.1504, and the
     sinkage inside its range only through the treadmill's 1 mm (ratio 0.128)."""
     fine = "1.25 mm, treadmill in 0.8 m from 1.75 s"
-    assert _windows(history, fine, 2.0) == [2.0, 2.5]
+    assert history.windows(fine, 2.0) == [2.0, 2.5]
     (v5, s5), (v2, s2), (v1, s1) = (history[(lab, 2.0)] for lab in (LONG, FINE, fine))
     assert 0.281 <= v1 <= 0.299 and 19.2e-3 <= s1 <= 23.2e-3
     assert (v1 - v2) / (v2 - v5) == pytest.approx(0.22, abs=0.005) and (s1 - s2) / (s2 - s5) == pytest.approx(0.18, abs=0.005)
