@@ -251,9 +251,7 @@ class Solver:
         fresh = self._fresh_bed(lx - shift)
         d = {k: np.concatenate([v[keep], fresh[k]]) for k, v in d.items()}
         d["x"][: int(keep.sum()), 0] -= shift
-        self.particles = Particles(d)
-        self._plans.clear()  # the launches hold the old arrays
-        self._graphs.clear()
+        self._replace_particles(d)
         if self.fluidity is not None:  # nodes move n_cells to the left; the fresh bed's start at rest
             g = self.fluidity.to_numpy()
             g[:-n_cells] = g[n_cells:]
@@ -262,6 +260,13 @@ class Solver:
         for body in self.intruders:
             body.state.x -= shift
         self.x_offset += shift
+
+    def _replace_particles(self, arrays: dict[str, np.ndarray]) -> None:
+        """New particle arrays of another count; the step's launches and graphs, which hold the old
+        arrays, are built again at the next step."""
+        self.particles = Particles(arrays)
+        self._plans.clear()
+        self._graphs.clear()
 
     def _fresh_bed(self, x_from: float) -> dict[str, np.ndarray]:
         """Every particle field of the configured bed's points at x > ``x_from``, at rest."""
@@ -398,9 +403,7 @@ class Solver:
         if len(arrays["x"]) == self.particles.n:
             self.particles.load(arrays)
         else:  # a moving window (shift_window) changed the number of points
-            self.particles = Particles(arrays)
-            self._plans.clear()
-            self._graphs.clear()
+            self._replace_particles(arrays)
         self.x_offset = float(meta.get("x_offset", 0.0))
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])

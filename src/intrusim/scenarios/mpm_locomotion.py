@@ -320,11 +320,13 @@ def run_mpm_steady(
     t_avg = s.ramp_time + s.settle_time
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
-    if s.treadmill is not None and s.treadmill[0] + radius > s.domain[0] - s.wall_margin:
-        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {s.treadmill[0]:g} m would reach "
-                         f"the wall margin; use a smaller x_trigger or a longer domain")
-    if s.treadmill is not None and s.treadmill[1] - radius < s.h:
-        raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_target {s.treadmill[1]:g} m would touch the left wall")
+    if s.treadmill is not None:  # the body's size: the settings' own validator does not know it
+        trigger, target = s.treadmill
+        if trigger + radius > s.domain[0] - s.wall_margin:
+            raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {trigger:g} m would reach "
+                             f"the wall margin; use a smaller x_trigger or a longer domain")
+        if target - radius < s.h:
+            raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_target {target:g} m would touch the left wall")
     step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
     # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
