@@ -20,6 +20,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict
 from multiprocessing import get_context
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 import typer
@@ -37,7 +38,7 @@ def main() -> None:
 
 FIELDS = [
     "beta", "gamma", "depth", "plate_length", "plate_thickness", "speed", "travel", "cell_size",
-    "contact_band_cells", "bed_height", "domain", "grid_offset", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
+    "contact_band_cells", "bed_height", "domain", "grid_offset", "fluidity_diameter", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
 ]  # fmt: skip
 
 
@@ -82,6 +83,8 @@ def run(
     cell_mm: float = typer.Option(2.5), band: float = typer.Option(0.0, help="contact band, cells"),
     bed_mm: float = typer.Option(150.0), domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
     workers: int = typer.Option(2, min=1),
+    fluidity_diameter: Optional[float] = typer.Option(
+        None, help="nonlocal granular fluidity with grains of this diameter, m, in place of the paper's law"),
 ) -> None:
     """Run the plate cases not yet in OUT/alpha_map.csv, ``workers`` processes of one thread each."""
     try:
@@ -90,7 +93,7 @@ def run(
         raise typer.BadParameter(f"--domain-mm must be WIDTHxHEIGHT, got {domain_mm!r}") from None
     common = dict(depth=depth_mm / 1e3, plate_length=plate_mm / 1e3, plate_thickness=thickness_mm / 1e3,
                   cell_size=cell_mm / 1e3, contact_band_cells=band,
-                  bed_height=bed_mm / 1e3, domain=(w_mm / 1e3, h_mm / 1e3))  # fmt: skip
+                  bed_height=bed_mm / 1e3, domain=(w_mm / 1e3, h_mm / 1e3), fluidity_diameter=fluidity_diameter)  # fmt: skip
     try:
         cases = map_cases(_degrees(betas), _degrees(gammas), **common)  # validates every case first
     except InputError as err:

@@ -47,3 +47,12 @@ def test_alpha_is_force_over_length_and_current_depth():
     assert a["alpha_z"] == pytest.approx(100.0 / c.plate_length)
     assert a["alpha_z_std"] == pytest.approx(0.0, abs=1e-9)
     assert a["alpha_x"] > 0 and a["depth_mean"] == pytest.approx(np.mean(c.bed_height - np.linspace(0.12, 0.10, 31)[16:]))
+
+
+def test_the_nonlocal_law_is_an_option_of_the_plate():
+    assert PlateMapCase(beta=0.0, gamma=math.pi / 2).config().material.fluidity is None  # the paper's law
+    cfg = PlateMapCase(beta=0.0, gamma=math.pi / 2, fluidity_diameter=6e-3).config()
+    assert cfg.material.fluidity.grain_diameter == pytest.approx(6e-3)
+    for bad in (0.0, -1e-3, math.nan):
+        with pytest.raises(InputError, match="fluidity_diameter"):
+            PlateMapCase(beta=0.0, gamma=0.0, fluidity_diameter=bad)

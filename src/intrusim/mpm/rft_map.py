@@ -24,7 +24,7 @@ from intrusim._checks import InputError
 from intrusim.laws.rft import wrap_beta
 
 from .config import (
-    BedConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig, OutputConfig, PrescribedMotion,
+    BedConfig, DomainConfig, FluidityConfig, IntruderConfig, MaterialConfig, MPMConfig, OutputConfig, PrescribedMotion,
     Rectangle, TimeConfig,
 )  # fmt: skip
 from .plate import plate_polygon
@@ -55,12 +55,18 @@ class PlateMapCase:
     # or not by rounding (unshifted, a vertical plate pushed straight down felt a sideways force
     # of 50-60 % of its lift)
     grid_offset: float = 0.5
+    # m: the nonlocal granular fluidity with grains of this diameter in place of the paper's
+    # Drucker-Prager return (FluidityConfig's other defaults); None = the paper's law
+    fluidity_diameter: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("depth", "plate_length", "plate_thickness", "speed", "travel", "cell_size", "bed_height"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+        d = self.fluidity_diameter
+        if d is not None and not (math.isfinite(d) and d > 0):
+            raise InputError(f"fluidity_diameter must be None or a finite number > 0, got {d!r}")
         if not (math.isfinite(self.beta) and math.isfinite(self.gamma)):
             raise InputError(f"beta and gamma must be finite, got {self.beta!r}, {self.gamma!r}")
         half = 0.5 * self.plate_length * abs(math.sin(self.beta)) + 0.5 * self.plate_thickness
@@ -98,7 +104,10 @@ class PlateMapCase:
         vx, vz = self.velocity
         return MPMConfig(
             domain=DomainConfig(size=self.domain, cells=cells),
-            material=MaterialConfig(rho_c=self.rho_c, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus),
+            material=MaterialConfig(
+                rho_c=self.rho_c, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus,
+                fluidity=None if self.fluidity_diameter is None else FluidityConfig(grain_diameter=self.fluidity_diameter),
+            ),
             bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=self.domain[0], z1=self.bed_height)]),
             intruders=[IntruderConfig(
                 vertices=plate_polygon(self.plate_length, self.plate_thickness, vertical=False), width=1.0,
