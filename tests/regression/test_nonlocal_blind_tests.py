@@ -1,0 +1,75 @@
+"""Blind tests of the DRFT calibrated on the nonlocal-law wheel (docs/results.md, "Calibrated on
+the nonlocal-law wheel"): runs registered with their predictions before they ran (9e6c4b8, b8832f1).
+
+The DRFT predictions are computed here from the committed calibration (xi fitted on the large
+wheel's 30 and 90 RPM points), the MPM states are the committed ``*_steady.csv`` rows of
+``examples/run_histories.py --steady-from``. Each test checks the outcome as it came out.
+"""
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from intrusim.analysis.calibration import drft_steady_states, with_mpm_push, with_parameters
+from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
+
+FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
+SMALL_R = 0.053021  # m, the small wheel's outer radius (grouser tips)
+LARGE_R = 0.10604  # m, the Table S1 wheel's
+
+
+def _steady(name: str) -> dict[str, dict[str, float]]:
+    with (FIG / name).open(newline="") as f:
+        return {r["label"]: {k: float(v) for k, v in r.items() if k not in ("run", "label")} for r in csv.DictReader(f)}
+
+
+@pytest.fixture(scope="module")
+def xi() -> float:
+    return json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
+
+
+def _drft(scenario, xi: float, omega_rpm: float) -> tuple[float, float, float]:
+    """(v m/s, sinkage m, slip) of the DRFT with this xi and the MPM's push."""
+    rec = drft_steady_states(with_parameters(with_mpm_push(scenario), {"xi": xi}), [omega_rpm]).records[0]
+    assert rec["ok"]
+    return rec["velocity"], rec["sinkage"], rec["slip"]
+
+
+def test_the_small_wheel_blind_test_missed(xi):
+    """Small wheel, 30 RPM, 2.5 mm: settled over 3.0-4.0 s (drift 0.1 %) at v 0.1134 m/s, sinkage
+    16.2 mm, slip 0.319. The registered prediction, v 0.149 m/s and 9.8 mm, is v +31.5 % and
+    sinkage -39.3 %: outside the 15 % of the pass."""
+    st = _steady("small_wheel_30rpm_nonlocal_treadmill_steady.csv")["small wheel, 2.5 mm, treadmill in 0.6 m"]
+    assert st["window_start"] == pytest.approx(3.0, abs=0.01) and st["window_end"] == pytest.approx(4.0, abs=0.02)
+    assert abs(st["drift"]) < 0.05  # settled, by the registered criterion
+    assert st["velocity"] == pytest.approx(0.1134, abs=3e-4) and st["sinkage"] == pytest.approx(16.2e-3, abs=0.1e-3)
+    assert st["slip"] == pytest.approx(0.319, abs=0.002)
+    v, s, slip = _drft(small_wheel_scenario(), xi, 30.0)
+    assert (v, s) == (pytest.approx(0.149, abs=1e-3), pytest.approx(9.8e-3, abs=0.1e-3))  # as registered
+    assert v / st["velocity"] - 1 == pytest.approx(0.315, abs=0.01)
+    assert s / st["sinkage"] - 1 == pytest.approx(-0.393, abs=0.01)
+    assert slip < st["slip"] / 3 + 0.01
+
+
+def test_the_small_wheel_at_2p5_mm_rides_where_the_large_wheel_did_at_5_mm():
+    """Grousers 2.4 x 1.2 cells in both: slip 0.319 against 0.346, sinkage / r 0.306 against 0.299
+    (the 5 mm large wheel over 5-10 s in the 2.5 m box), while the large wheel at 2.5 mm slips 0.128
+    at sinkage / r 0.192."""
+    small = _steady("small_wheel_30rpm_nonlocal_treadmill_steady.csv")["small wheel, 2.5 mm, treadmill in 0.6 m"]
+    large = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")
+    coarse, fine = large["5 mm, 2.5 m box"], large["2.5 mm, treadmill in 1 m from 2.75 s"]
+    assert abs(small["slip"] - coarse["slip"]) < 0.03
+    assert abs(small["sinkage"] / SMALL_R - coarse["sinkage"] / LARGE_R) < 0.01
+    assert small["slip"] - fine["slip"] > 0.15
+    assert small["sinkage"] / SMALL_R - fine["sinkage"] / LARGE_R > 0.1
+
+
+def test_the_small_wheel_lies_on_the_slip_sinkage_curve():
+    """The quadratic of slip_dependence.json (19 runs with the paper's law) gives 15.2 mm from the
+    small wheel's slip; the MPM has 16.2 mm (+6.7 %)."""
+    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    st = _steady("small_wheel_30rpm_nonlocal_treadmill_steady.csv")["small wheel, 2.5 mm, treadmill in 0.6 m"]
+    s = st["slip"]
+    assert st["sinkage"] / (SMALL_R * (c0 + c1 * s + c2 * s * s)) - 1 == pytest.approx(0.067, abs=0.01)
