@@ -222,7 +222,7 @@ def calibrate(
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
     from intrusim.analysis.calibration import leave_one_out as cross_validate
-    from intrusim.analysis.calibration import load_reference, with_mpm_push, with_parameters
+    from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
     from intrusim.figures_calibration import Check, psi_from_surface_drop, write_calibration
     from intrusim.scenarios import load_scenario
 
@@ -257,7 +257,10 @@ def calibrate(
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
             s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
-            checks.append(Check(label.strip(), s, load_reference(path.strip(), s.name)))
+            try:  # a bad check is refused before the fit, not after it
+                checks.append(Check(label.strip(), s, check_reference(load_reference(path.strip(), s.name))))
+            except ValueError as err:
+                raise InputError(f"--check {label.strip()}: {err}") from None
         res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
         typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
         _echo_comparison(res.comparison)

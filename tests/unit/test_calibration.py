@@ -287,3 +287,26 @@ def test_cli_calibrate_settled_only_without_settled_runs_is_a_message(tmp_path):
     path = SweepResult("w", "mpm", None, recs).to_csv(tmp_path / "mpm.csv")
     r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", str(path), "--settled-only", "--out", str(tmp_path)])
     assert r.exit_code == 2 and "settled" in r.output and not list(tmp_path.glob("*.json"))
+
+
+def test_a_single_omega_is_enough_to_compare_but_not_to_fit():
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    one = drft_steady_states(with_parameters(s, {"xi": 0.8}), [60.0])
+    c = compare(with_parameters(s, {"xi": 0.8}), one)
+    assert list(c.omega_rpm) == [60.0] and c.max_abs_rel_error_velocity < 1e-9
+    with pytest.raises(ValueError, match="at least 2 omegas"):
+        calibrate(s, one, ("xi",))
+
+
+def test_cli_calibrate_checks_a_single_omega_and_refuses_a_bad_check_before_the_fit(tmp_path):
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    ref = drft_steady_states(with_parameters(s, {"xi": 0.8}), [20.0, 80.0]).to_csv(tmp_path / "wheel.csv")
+    one = drft_steady_states(with_parameters(s, {"xi": 0.8}), [50.0]).to_csv(tmp_path / "one.csv")
+    base = ["calibrate", "wheel", "--mpm", str(ref), "--params", "xi", "--starts", "1", "--structural", "wheel-rear-half"]
+    r = CliRunner().invoke(app, [*base, "--check", f"wheel={one}", "--out", str(tmp_path / "out"), "--name", "cal"])
+    assert r.exit_code == 0, r.output
+    assert "check wheel (grousered_wheel, fitted values reused): 50 RPM v " in r.output
+    bad = SweepResult("w", "mpm", None, [{"omega_rpm": 50.0, "ok": True, "velocity": 0.3, "sinkage": 0.0}])
+    r = CliRunner().invoke(app, [*base, "--check", f"wheel={bad.to_csv(tmp_path / 'bad.csv')}", "--out", str(tmp_path / "bad")])
+    assert r.exit_code == 2 and "--check wheel" in r.output and "non-zero" in r.output
+    assert "xi = " not in r.output and not (tmp_path / "bad").exists()  # refused before the fit

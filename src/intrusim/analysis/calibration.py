@@ -127,11 +127,12 @@ def load_reference(path: Any, scenario: str = "", settled_only: bool = False) ->
     return SweepResult(scenario, "mpm", None, rows, meta=res.meta)
 
 
-def _reference_arrays(reference: SweepResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(omega_rpm, velocity, sinkage) of a reference, checked for what relative errors need."""
+def _reference_arrays(reference: SweepResult, min_omegas: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(omega_rpm, velocity, sinkage) of a reference, checked for what relative errors need (a
+    comparison: one omega or more; a fit asks for ``min_omegas`` = 2)."""
     w, v, s = reference.omega_rpm, reference.column("velocity"), reference.column("sinkage")
-    if len(w) < 2:
-        raise ValueError(f"the reference needs at least 2 omegas, got {len(w)}")
+    if len(w) < min_omegas:
+        raise ValueError(f"the reference needs at least {min_omegas} omega{'s' if min_omegas > 1 else ''}, got {len(w)}")
     for name, a in (("omega_rpm", w), ("velocity", v), ("sinkage", s)):
         if not np.all(np.isfinite(a)):
             raise ValueError(f"the reference {name} has NaN or infinite values (failed runs?): {a}")
@@ -140,6 +141,13 @@ def _reference_arrays(reference: SweepResult) -> tuple[np.ndarray, np.ndarray, n
     if np.any(v == 0.0) or np.any(s == 0.0):
         raise ValueError("relative errors need a non-zero reference velocity and sinkage at every omega")
     return w, v, s
+
+
+def check_reference(reference: SweepResult) -> SweepResult:
+    """``reference`` itself, once checked for a comparison (finite, omega > 0, non-zero v and
+    sinkage; one omega or more): a ValueError says what is wrong, before any DRFT is run."""
+    _reference_arrays(reference)
+    return reference
 
 
 def _check_names(params: Sequence[str]) -> tuple[str, ...]:
@@ -375,7 +383,7 @@ def calibrate(
     than 2 reference omegas or fewer residuals (2 per omega) than parameters, NaN reference data.
     """
     names = _check_names(params)
-    w, _, _ = _reference_arrays(reference)
+    w, _, _ = _reference_arrays(reference, min_omegas=2)
     if 2 * len(w) < len(names):
         raise ValueError(f"{len(names)} parameters need at least {len(names)} residuals, got {2 * len(w)} (2 per omega)")
     bnd = {p: tuple(float(b) for b in (bounds or {}).get(p, PARAMETERS[p].bounds)) for p in names}
