@@ -73,3 +73,38 @@ def test_the_small_wheel_lies_on_the_slip_sinkage_curve():
     st = _steady("small_wheel_30rpm_nonlocal_treadmill_steady.csv")["small wheel, 2.5 mm, treadmill in 0.6 m"]
     s = st["slip"]
     assert st["sinkage"] / (SMALL_R * (c0 + c1 * s + c2 * s * s)) - 1 == pytest.approx(0.067, abs=0.01)
+
+
+def test_the_60_rpm_blind_test_met(xi):
+    """Large wheel, 60 RPM, 2.5 mm: settled over 4.5-5.5 s (drift 0.5 %) at v 0.5984 m/s, sinkage
+    19.0 mm, slip 0.102. The registered prediction, v 0.596 m/s and 19.7 mm, is v -0.3 % and
+    sinkage +3.8 %: within the 15 % of the pass. v is linear in omega across the three settled
+    wheels (v60 / v30 = 2.06, v90 / v30 = 3.07), the sinkage 19.0-20.4 mm at all three."""
+    st = _steady("wheel_60rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m"]
+    assert st["window_start"] == pytest.approx(4.5, abs=0.01) and st["window_end"] == pytest.approx(5.5, abs=0.02)
+    assert abs(st["drift"]) < 0.05
+    assert st["velocity"] == pytest.approx(0.5984, abs=3e-4) and st["sinkage"] == pytest.approx(19.0e-3, abs=0.1e-3)
+    assert st["slip"] == pytest.approx(0.102, abs=0.002)
+    v, s, _ = _drft(grousered_wheel_scenario(), xi, 60.0)
+    assert (v, s) == (pytest.approx(0.596, abs=1e-3), pytest.approx(19.7e-3, abs=0.1e-3))  # as registered
+    assert v / st["velocity"] - 1 == pytest.approx(-0.003, abs=0.005)
+    assert s / st["sinkage"] - 1 == pytest.approx(0.038, abs=0.005)
+    v30 = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 2.75 s"]
+    v90 = _steady("wheel_90rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 1.5 s"]
+    assert st["velocity"] / v30["velocity"] == pytest.approx(2.06, abs=0.01)
+    assert v90["velocity"] / v30["velocity"] == pytest.approx(3.07, abs=0.01)
+    assert all(19.0e-3 <= r["sinkage"] <= 20.5e-3 for r in (st, v30, v90))
+
+
+def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
+    """docs/figures/mpm_nonlocal_blind: the rows `intrusim calibrate --check` reads, as
+    examples/steady_to_sweep.py writes them from the committed steady states."""
+    mod = load_example("steady_to_sweep")
+    for steady, sweep in (("wheel_60rpm_nonlocal_treadmill_steady.csv", "grousered_wheel_mpm_sweep.csv"),
+                          ("small_wheel_30rpm_nonlocal_treadmill_steady.csv", "small_grousered_wheel_mpm_sweep.csv")):
+        rows = mod.sweep_rows([FIG / steady], "2.5 mm", 2.5, 0.05)
+        with (FIG / "mpm_nonlocal_blind" / sweep).open(newline="") as f:
+            committed = list(csv.DictReader(f))
+        assert len(rows) == len(committed) == 1
+        for k in ("omega_rpm", "velocity", "sinkage", "slip", "drift"):
+            assert rows[0][k] == pytest.approx(float(committed[0][k]), rel=1e-12)
