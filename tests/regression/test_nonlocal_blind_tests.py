@@ -1,5 +1,6 @@
 """Blind tests of the DRFT calibrated on the nonlocal-law wheel (docs/results.md, "Calibrated on
-the nonlocal-law wheel"): runs registered with their predictions before they ran (9e6c4b8, b8832f1).
+the nonlocal-law wheel"): runs registered with their predictions before they ran (9e6c4b8, b8832f1; the 1.25 mm small wheel
+0c1b1c9).
 
 The DRFT predictions are computed here from the committed calibration (xi fitted on the large
 wheel's 30 and 90 RPM points), the MPM states are the committed ``*_steady.csv`` rows of
@@ -96,14 +97,74 @@ def test_the_60_rpm_blind_test_met(xi):
     assert all(19.0e-3 <= r["sinkage"] <= 20.5e-3 for r in (st, v30, v90))
 
 
+FINE = "small wheel, 1.25 mm, 0.45 m box"
+BOX = "small wheel, 2.5 mm, 0.45 m box"
+
+
+def test_the_small_wheel_at_1p25_mm_met_both_predictions(xi):
+    """Small wheel, 30 RPM, 1.25 mm, 0.45 m box: over 2.0-3.0 s (drift 1.9 %) v 0.1470 m/s, sinkage
+    10.08 mm, slip 0.118. Prediction 1 (slip below 0.20, sinkage / r below 0.25) and prediction 2
+    (xi-DRFT's v 0.149 m/s and 9.8 mm within 15 %: v +1.5 %, sinkage -2.3 %) are both met."""
+    st = _steady("small_wheel_30rpm_nonlocal_cells_steady.csv")[FINE]
+    assert st["window_start"] == pytest.approx(2.0, abs=0.01) and st["window_end"] == pytest.approx(3.0, abs=0.02)
+    assert abs(st["drift"]) < 0.05
+    assert st["velocity"] == pytest.approx(0.1470, abs=3e-4) and st["sinkage"] == pytest.approx(10.08e-3, abs=0.05e-3)
+    assert st["slip"] == pytest.approx(0.118, abs=0.002)
+    assert st["slip"] < 0.20 and st["sinkage"] / SMALL_R < 0.25  # prediction 1
+    v, s, _ = _drft(small_wheel_scenario(), xi, 30.0)
+    assert abs(v / st["velocity"] - 1) < 0.15 and abs(s / st["sinkage"] - 1) < 0.15  # prediction 2
+    assert v / st["velocity"] - 1 == pytest.approx(0.015, abs=0.005)
+    assert s / st["sinkage"] - 1 == pytest.approx(-0.023, abs=0.005)
+
+
+def test_the_small_wheel_at_1p25_mm_is_still_moving_towards_drft(figure_history):
+    """Not flat: over the four 0.25 s windows of 2.0-3.0 s v rises 0.1448 -> 0.1488 m/s and the
+    sinkage falls 10.46 -> 9.82 mm, towards DRFT's 0.149 m/s and 9.8 mm."""
+    h = figure_history("small_wheel_30rpm_nonlocal_cells.csv")
+    ts = h.windows(FINE, 2.0, 3.0)
+    assert len(ts) == 4
+    v = [h[FINE, t][0] for t in ts]
+    s = [h[FINE, t][1] for t in ts]
+    assert v == sorted(v) and s == sorted(s, reverse=True)
+    assert (v[0], v[-1]) == (pytest.approx(0.1448, abs=2e-4), pytest.approx(0.1488, abs=2e-4))
+    assert (s[0], s[-1]) == (pytest.approx(10.46e-3, abs=0.02e-3), pytest.approx(9.82e-3, abs=0.02e-3))
+
+
+def test_the_small_box_check_met(figure_history):
+    """The 0.45 m box at 2.5 mm against the 0.6 m box over 2.0-3.0 s: v 0.1125 against 0.1130 m/s
+    (-0.4 %), sinkage 15.74 against 16.11 mm (-0.37 mm): within the registered 3 % and 1 mm."""
+    box = _steady("small_wheel_30rpm_nonlocal_cells_steady.csv")[BOX]
+    assert box["window_start"] == pytest.approx(2.0, abs=0.01) and box["window_end"] == pytest.approx(3.0, abs=0.02)
+    h = figure_history("small_wheel_30rpm_nonlocal_treadmill.csv")
+    label = "small wheel, 2.5 mm, treadmill in 0.6 m"
+    ts = h.windows(label, 2.0, 3.0)
+    assert len(ts) == 4
+    v = sum(h[label, t][0] for t in ts) / 4
+    s = sum(h[label, t][1] for t in ts) / 4
+    assert box["velocity"] / v - 1 == pytest.approx(-0.0044, abs=0.001)
+    assert (box["sinkage"] - s) == pytest.approx(-0.37e-3, abs=0.02e-3)
+    assert abs(box["velocity"] / v - 1) < 0.03 and abs(box["sinkage"] - s) < 1e-3
+
+
+def test_the_small_wheel_at_1p25_mm_rides_where_the_large_wheel_did_at_2p5_mm():
+    """Grousers 4.8 x 2.4 cells in both: slip 0.118 against 0.128, sinkage / r 0.190 against 0.192."""
+    small = _steady("small_wheel_30rpm_nonlocal_cells_steady.csv")[FINE]
+    large = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 2.75 s"]
+    assert abs(small["slip"] - large["slip"]) < 0.015
+    assert abs(small["sinkage"] / SMALL_R - large["sinkage"] / LARGE_R) < 0.005
+
+
 def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
-    """docs/figures/mpm_nonlocal_blind: the rows `intrusim calibrate --check` reads, as
+    """docs/figures/mpm_nonlocal_blind and mpm_nonlocal_fine: the rows `intrusim calibrate --check` reads, as
     examples/steady_to_sweep.py writes them from the committed steady states."""
     mod = load_example("steady_to_sweep")
-    for steady, sweep in (("wheel_60rpm_nonlocal_treadmill_steady.csv", "grousered_wheel_mpm_sweep.csv"),
-                          ("small_wheel_30rpm_nonlocal_treadmill_steady.csv", "small_grousered_wheel_mpm_sweep.csv")):
-        rows = mod.sweep_rows([FIG / steady], "2.5 mm", 2.5, 0.05)
-        with (FIG / "mpm_nonlocal_blind" / sweep).open(newline="") as f:
+    for steady, folder, sweep, cells in (
+        ("wheel_60rpm_nonlocal_treadmill_steady.csv", "mpm_nonlocal_blind", "grousered_wheel_mpm_sweep.csv", 2.5),
+        ("small_wheel_30rpm_nonlocal_treadmill_steady.csv", "mpm_nonlocal_blind", "small_grousered_wheel_mpm_sweep.csv", 2.5),
+        ("small_wheel_30rpm_nonlocal_cells_steady.csv", "mpm_nonlocal_fine", "small_grousered_wheel_mpm_sweep.csv", 1.25),
+    ):
+        rows = mod.sweep_rows([FIG / steady], f"{cells:g} mm", cells, 0.05)
+        with (FIG / folder / sweep).open(newline="") as f:
             committed = list(csv.DictReader(f))
         assert len(rows) == len(committed) == 1
         for k in ("omega_rpm", "velocity", "sinkage", "slip", "drift"):
