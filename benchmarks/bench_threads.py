@@ -71,7 +71,12 @@ def main() -> None:
     if args.child:
         print(json.dumps(measure(*args.child, args.seconds)))
         return
-    works = [int(w) for w in args.work.split(",")]
+    try:
+        works = [int(w) for w in args.work.split(",")]
+    except ValueError:
+        ap.error(f"--work takes comma-separated integers, got {args.work!r}")
+    if args.rounds < 1 or args.seconds <= 0 or min(works) < 1:
+        ap.error("--rounds and every --work must be at least 1, --seconds positive")
     results: dict[tuple[int, int], list[dict]] = {}
     for r in range(args.rounds):
         for work in works:
