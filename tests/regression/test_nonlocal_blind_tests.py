@@ -130,6 +130,30 @@ def test_the_small_wheel_at_1p25_mm_is_still_moving_towards_drft(figure_history)
     assert (s[0], s[-1]) == (pytest.approx(10.46e-3, abs=0.02e-3), pytest.approx(9.82e-3, abs=0.02e-3))
 
 
+def test_the_small_wheel_at_1p25_mm_settles_on_drft_from_3_s(xi, figure_history):
+    """Extended to 3.5 s (registered before the run): over 3.0-3.5 s v 0.1488 m/s, sinkage 9.71 mm
+    (ranges 0.148-0.152 m/s, 9.4-10.0 mm), the two 0.25 s windows within 0.11 % and 0.05 mm (limits
+    1 % and 0.2 mm), xi-DRFT v +0.3 %, sinkage +1.3 % (limit 5 %). The extension went on from the
+    3.0 s run's end state: its windows before 3.0 s are that run's."""
+    label = FINE + ", to 3.5 s"
+    st = _steady("small_wheel_30rpm_nonlocal_cells_3p5s_steady.csv")[label]
+    assert st["window_start"] == pytest.approx(3.0, abs=0.01) and st["window_end"] == pytest.approx(3.5, abs=0.02)
+    assert 0.148 <= st["velocity"] <= 0.152 and 9.4e-3 <= st["sinkage"] <= 10.0e-3  # (a)
+    assert st["velocity"] == pytest.approx(0.1488, abs=1e-4) and st["sinkage"] == pytest.approx(9.71e-3, abs=0.02e-3)
+    h = figure_history("small_wheel_30rpm_nonlocal_cells_3p5s.csv")
+    ts = h.windows(label, 3.0, 3.5)
+    assert len(ts) == 2
+    (v0, s0), (v1, s1) = h[label, ts[0]], h[label, ts[1]]
+    assert abs(v1 / v0 - 1) < 0.01 and abs(s1 - s0) < 0.2e-3  # (b)
+    v, s, _ = _drft(small_wheel_scenario(), xi, 30.0)
+    assert abs(v / st["velocity"] - 1) < 0.05 and abs(s / st["sinkage"] - 1) < 0.05  # (c)
+    assert v / st["velocity"] - 1 == pytest.approx(0.003, abs=0.003)
+    assert s / st["sinkage"] - 1 == pytest.approx(0.013, abs=0.003)
+    before = figure_history("small_wheel_30rpm_nonlocal_cells.csv")
+    for t in before.windows(FINE):
+        assert h[label, t] == before[FINE, t]
+
+
 def test_the_small_box_check_met(figure_history):
     """The 0.45 m box at 2.5 mm against the 0.6 m box over 2.0-3.0 s: v 0.1125 against 0.1130 m/s
     (-0.4 %), sinkage 15.74 against 16.11 mm (-0.37 mm): within the registered 3 % and 1 mm."""
