@@ -255,6 +255,8 @@ def calibrate(
             label, sep, path = item.partition("=")
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
+            if any(c.label == label.strip() for c in checks):  # the comparisons are keyed by NAME: one would be lost
+                raise InputError(f"--check {label.strip()} given twice: put its omegas in one CSV (examples/steady_to_sweep.py takes several files)")
             s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
             try:  # a bad check is refused before the fit, not after it

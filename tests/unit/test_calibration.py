@@ -310,3 +310,15 @@ def test_cli_calibrate_checks_a_single_omega_and_refuses_a_bad_check_before_the_
     r = CliRunner().invoke(app, [*base, "--check", f"wheel={bad.to_csv(tmp_path / 'bad.csv')}", "--out", str(tmp_path / "bad")])
     assert r.exit_code == 2 and "--check wheel" in r.output and "non-zero" in r.output
     assert "xi = " not in r.output and not (tmp_path / "bad").exists()  # refused before the fit
+
+
+def test_cli_calibrate_refuses_a_check_name_given_twice(tmp_path):
+    """Two --check with one NAME would leave one comparison out of the output: refused before the fit."""
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    ref = drft_steady_states(with_parameters(s, {"xi": 0.8}), [20.0, 80.0]).to_csv(tmp_path / "wheel.csv")
+    a = drft_steady_states(with_parameters(s, {"xi": 0.8}), [10.0]).to_csv(tmp_path / "a.csv")
+    b = drft_steady_states(with_parameters(s, {"xi": 0.8}), [50.0]).to_csv(tmp_path / "b.csv")
+    r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", str(ref), "--params", "xi", "--starts", "1",
+                                 "--check", f"wheel={a}", "--check", f"wheel={b}", "--out", str(tmp_path / "out")])  # fmt: skip
+    assert r.exit_code == 2 and "--check wheel given twice" in r.output
+    assert "xi = " not in r.output and not (tmp_path / "out").exists()
