@@ -144,6 +144,28 @@ def test_the_10_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     assert s[-4] - s[-1] == pytest.approx(0.24e-3, abs=0.02e-3)
 
 
+def test_the_10_rpm_wheel_at_5_mm_met_its_resolution_predictions():
+    """Registered in session 33: the 10 RPM wheel at 5 mm over 6.0-10.0 s (drift 2.4 %) slips 0.414
+    and sinks 36.5 mm (predicted 0.35-0.55 and 30-40 mm); its slip step to 2.5 mm, 0.168, is 0.74x
+    the 30 RPM step (0.228; the limit 1.5x), so the 2.5 mm reference reads as resolved. Its sinkage
+    is on the slip-sinkage quadratic (-0.1 %)."""
+    coarse = _steady("wheel_10rpm_nonlocal_5mm_steady.csv")["5 mm, 10 RPM, treadmill in 1 m"]
+    fine = _steady("wheel_10rpm_nonlocal_treadmill_steady.csv")["2.5 mm, 10 RPM, treadmill in 1 m"]
+    w30 = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")
+    assert coarse["window_start"] == pytest.approx(6.0, abs=0.01) and coarse["window_end"] == pytest.approx(10.0, abs=0.02)
+    assert abs(coarse["drift"]) < 0.05
+    assert coarse["slip"] == pytest.approx(0.414, abs=0.002) and coarse["sinkage"] == pytest.approx(36.5e-3, abs=0.1e-3)
+    assert 0.35 <= coarse["slip"] <= 0.55 and 30e-3 <= coarse["sinkage"] <= 40e-3  # prediction 1
+    step10 = coarse["slip"] - fine["slip"]
+    step30 = w30["5 mm, treadmill in 1 m"]["slip"] - w30["2.5 mm, treadmill in 1 m from 2.75 s"]["slip"]
+    assert step10 == pytest.approx(0.168, abs=0.003) and step30 == pytest.approx(0.228, abs=0.003)
+    assert step10 <= 1.5 * step30 and coarse["slip"] <= 0.59  # prediction 2
+    assert coarse["slip"] > w30["5 mm, treadmill in 1 m"]["slip"]  # slips more at 10 than at 30 RPM, as at 2.5 mm
+    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    sl = coarse["slip"]
+    assert abs(coarse["sinkage"] / (LARGE_R * (c0 + c1 * sl + c2 * sl * sl)) - 1) < 0.005
+
+
 FINE = "small wheel, 1.25 mm, 0.45 m box"
 BOX = "small wheel, 2.5 mm, 0.45 m box"
 
