@@ -166,6 +166,28 @@ def test_the_10_rpm_wheel_at_5_mm_met_its_resolution_predictions():
     assert abs(coarse["sinkage"] / (LARGE_R * (c0 + c1 * sl + c2 * sl * sl)) - 1) < 0.005
 
 
+def _held(name: str, rpm: float) -> dict[str, float]:
+    with (FIG / name).open(newline="") as f:
+        (row,) = [r for r in csv.DictReader(f) if float(r["omega_rpm"]) == rpm]
+    return {k: float(row[k]) for k in ("vx", "fx", "fz", "fz_last_half", "t_end")}
+
+
+def test_the_held_wheel_test_of_the_10_rpm_slip_does_not_decide():
+    """Registered in session 33: held at the 5 mm free wheel's 10 RPM state, at 10 and 30 RPM (the same
+    slip), over the same 0.29 m. The control missed: the held 10 RPM wheel carries Fx -1.28 N and
+    Fz 47.5 N where the free wheel carries -4.0 N and 61.7 N (limits 1.5 N and 6 N), and both held
+    wheels still load up at the end. Fx differs by +0.27 N between them (within 1 N), which by the
+    registered reading compares two held wheels only."""
+    slow, fast = _held("wheel_held_10rpm_5mm_w1p5.csv", 10.0), _held("wheel_held_10rpm_5mm_w0p5.csv", 30.0)
+    assert slow["vx"] == pytest.approx(0.0651) and fast["vx"] == pytest.approx(3 * 0.0651)  # one slip
+    assert slow["t_end"] == pytest.approx(4.49, abs=0.01) and fast["t_end"] == pytest.approx(1.49, abs=0.01)
+    assert (slow["fx"], slow["fz"]) == (pytest.approx(-1.28, abs=0.01), pytest.approx(47.47, abs=0.01))
+    assert (fast["fx"], fast["fz"]) == (pytest.approx(-1.01, abs=0.01), pytest.approx(50.11, abs=0.01))
+    assert abs(slow["fx"] - -4.0) > 1.5 and abs(slow["fz"] - 61.7) > 6.0  # the control: missed
+    assert abs(fast["fx"] - slow["fx"]) < 1.0
+    assert slow["fz_last_half"] > slow["fz"] and fast["fz_last_half"] > fast["fz"]  # still loading up
+
+
 FINE = "small wheel, 1.25 mm, 0.45 m box"
 BOX = "small wheel, 2.5 mm, 0.45 m box"
 
