@@ -132,6 +132,38 @@ def test_the_10_rpm_extrapolation_missed(xi):
     assert st["sinkage"] / _curve_sinkage(st["slip"], LARGE_R) - 1 == pytest.approx(0.027, abs=0.005)
 
 
+def test_the_20_rpm_test_met(xi):
+    """Large wheel, 20 RPM, 2.5 mm, registered in session 33: settled over 4.0-5.0 s (drift 1.3 %) at
+    v 0.1852 m/s, sinkage 22.3 mm, slip 0.166. The registered prediction, v 0.199 m/s and 19.7 mm, is
+    v +7.6 % and sinkage -11.5 %: within the 15 % of the pass. The slip lies between the 30 and 10 RPM
+    slips and the sinkage between theirs, on the slip-sinkage quadratic (22.4 mm; the MPM -0.3 %)."""
+    st = _settled("wheel_20rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 20 RPM, treadmill in 1 m", (4.0, 5.0), 0.1852, 22.3e-3, 0.166)
+    v, s, slip = _drft(grousered_wheel_scenario(), xi, 20.0)
+    assert (v, s) == (pytest.approx(0.199, abs=1e-3), pytest.approx(19.7e-3, abs=0.1e-3))  # as registered
+    assert v / st["velocity"] - 1 == pytest.approx(0.0755, abs=0.002)
+    assert s / st["sinkage"] - 1 == pytest.approx(-0.115, abs=0.002)
+    assert abs(v / st["velocity"] - 1) < 0.15 and abs(s / st["sinkage"] - 1) < 0.15
+    slow = _steady("wheel_10rpm_nonlocal_treadmill_steady.csv")["2.5 mm, 10 RPM, treadmill in 1 m"]
+    fast = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 2.75 s"]
+    assert fast["slip"] < st["slip"] < slow["slip"] and fast["sinkage"] < st["sinkage"] < slow["sinkage"]
+    assert slip == pytest.approx(0.103, abs=0.003)
+    assert abs(st["sinkage"] / _curve_sinkage(st["slip"], LARGE_R) - 1) < 0.05
+    assert st["sinkage"] / _curve_sinkage(st["slip"], LARGE_R) - 1 == pytest.approx(-0.003, abs=0.005)
+
+
+def test_the_20_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
+    """Over the last second the 0.25 s windows hold v within 0.1838-0.1874 m/s while the sinkage eases
+    from 22.5 to 21.9 mm; at 21.9 mm DRFT's sinkage would still be within 15 % (-10 %)."""
+    label = "2.5 mm, 20 RPM, treadmill in 1 m"
+    h = figure_history("wheel_20rpm_nonlocal_treadmill.csv")
+    ts = h.windows(label, 4.0, 5.0)
+    assert len(ts) == 4
+    v = [h[label, t][0] for t in ts]
+    s = [h[label, t][1] for t in ts]
+    assert 0.1836 < min(v) and max(v) < 0.1876
+    assert s[-1] < s[0] and 21.8e-3 < min(s) and max(s) < 22.6e-3
+    assert abs(19.73e-3 / min(s) - 1) < 0.15
+
 def test_the_10_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """From 3.0 s on the 0.25 s windows hold v within 0.0830-0.0842 m/s while the sinkage eases
     from 28.0 to 26.8 mm (27.08 to 26.84 mm across the last second's four windows: slowing, not flat)."""
@@ -269,7 +301,8 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
     mod = load_example("steady_to_sweep")
     for steadies, folder, sweep, cells in (
         (["wheel_60rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "grousered_wheel_mpm_sweep.csv", 2.5),
-        (["wheel_10rpm_nonlocal_treadmill_steady.csv", "wheel_60rpm_nonlocal_treadmill_steady.csv"],
+        (["wheel_10rpm_nonlocal_treadmill_steady.csv", "wheel_20rpm_nonlocal_treadmill_steady.csv",
+          "wheel_60rpm_nonlocal_treadmill_steady.csv"],
          "mpm_nonlocal_blind_all", "grousered_wheel_mpm_sweep.csv", 2.5),
         (["small_wheel_30rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "small_grousered_wheel_mpm_sweep.csv", 2.5),
         (["small_wheel_30rpm_nonlocal_cells_steady.csv"], "mpm_nonlocal_fine", "small_grousered_wheel_mpm_sweep.csv", 1.25),
