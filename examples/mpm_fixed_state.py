@@ -11,6 +11,15 @@ bed at rest with the wheel already in place, and records the force on it.
     python examples/mpm_fixed_state.py run --cell-mm 1.25 --z 0.2007 --vx 0.1095 --rpm 30  # ~40 min
     python examples/mpm_fixed_state.py table runs/fixed --out docs/figures/wheel_fixed_state
 
+`switch` starts from a free (coupled) run's last checkpoint instead of a bed at rest: the wheel
+keeps its height, its forward speed is held at the free run's mean over --window (times --vx-scale),
+and omega is set to --rpm; the free run's bed, wake and treadmill come with it. Held at the free
+state with the free run's omega it is the control (its force should stay at the free balance);
+at another omega (with --vx-scale keeping the slip) it measures whether the force at that state
+depends on omega:
+
+    python examples/mpm_fixed_state.py switch runs/nl10/RUN --rpm 30 --vx-scale 3 --duration 1.0 --out runs/switch10
+
 `run` writes a run folder (resumable: run the same command again after a stop) named after the
 state and cell size; with --snapshot-every S also particle snapshots every S seconds (VTK + PNG,
 read by examples/shear_layer.py). `table` averages fx, fz and the moment (3D, N and N m, on the wheel) over
@@ -30,8 +39,9 @@ from pathlib import Path
 import numpy as np
 
 from intrusim.analysis.steady import interval_means
+from intrusim.mpm import io as mpm_io
 from intrusim.mpm.config import FluidityConfig, MPMConfig, MuIConfig, PrescribedMotion
-from intrusim.mpm.solver import Solver
+from intrusim.mpm.solver import CHECKPOINT, Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
 from intrusim.scenarios.mpm_locomotion import MPMSettings, mpm_config, paper_settings
@@ -107,6 +117,84 @@ def run(args: argparse.Namespace) -> None:
     meta["wall_s"] = time.perf_counter() - start  # this invocation only (a resumed run: since the resume)
     (out / META).write_text(json.dumps(meta, indent=1))
     print(f"wrote {out} in {meta['wall_s']:.0f} s")
+
+
+def held_from_free(free: Path, rpm: float, vx_scale: float, window: float, duration: float,
+                   out_root: Path, threads: int | None = None) -> tuple[Solver, dict, Path]:
+    """The solver of a wheel held from ``free``'s last checkpoint (not yet restored), its META and folder.
+
+    Held: the coupled motion with x and z frozen (free_x, free_z False), so the body keeps the
+    velocity it is given and moves with the treadmill's shifts; omega ``rpm`` (the free run's sense
+    of rotation); forward speed = ``vx_scale`` x the free run's mean vx over its last ``window`` s."""
+    cfg_path, ckpt = free / "config.json", free / CHECKPOINT
+    if not cfg_path.exists() or not ckpt.exists():
+        raise SystemExit(f"{free}: not a run folder with a checkpoint (config.json, {CHECKPOINT})")
+    payload = json.loads(cfg_path.read_text())["config"]
+    body = payload["intruders"][0]
+    if body["motion"]["kind"] != "coupled":
+        raise SystemExit(f"{free}: the body is not coupled (free); nothing to hold")
+    if not (rpm > 0 and vx_scale > 0 and window > 0 and duration > 0):
+        raise SystemExit("--rpm, --vx-scale, --window and --duration must be positive")
+    _, meta_ck = mpm_io.load_checkpoint(ckpt)
+    t0 = meta_ck["step_count"] * meta_ck["dt"]
+    ts = np.genfromtxt(free / "timeseries.csv", delimiter=",", names=True)
+    if ts["time"][0] > t0 - window:
+        raise SystemExit(f"{free}: the window {window:g} s is longer than the run before its checkpoint ({t0:.3f} s)")
+    means = interval_means(ts["time"], {"vx": ts["vx"], "z": ts["z"]}, t0 - window + 2e-9, t0 + 1e-9)
+    state = meta_ck["bodies"][0]
+    sign = math.copysign(1.0, body["motion"]["omega"])
+    body["motion"].update(omega=sign * rpm * 2 * math.pi / 60, free_x=False, free_z=False)
+    payload["time"]["t_end"] = t0 + duration
+    if threads is not None:
+        payload["backend"]["cpu_threads"] = threads
+    loco = json.loads((free / "locomotion.json").read_text())
+    vx = vx_scale * means["vx"]
+    out = out_root / f"{free.name}_held{rpm:g}rpm_v{1e3 * vx:.1f}mm_s"
+    payload["output"]["directory"] = str(out)
+    settings = loco["settings"]
+    free_rpm = float(loco["omega_rpm"])
+    info = {"z": state["z"], "vx": vx, "omega_rpm": rpm, "cell_mm": 1e3 * settings["domain"][0] / settings["cells"][0],
+            "band_cells": settings["contact_band_cells"], "bed_depth": settings["bed_depth"], "domain": settings["domain"],
+            "smooth": False, "cfl": settings["cfl"], "lug_width": loco["scenario"]["lug_width"],
+            "from_run": str(free), "t_switch": t0, "free_rpm": free_rpm, "free_vx_mean": means["vx"],
+            "free_z_mean": means["z"], "free_window": window, "vx_scale": vx_scale,
+            "treadmill": settings.get("treadmill")}  # fmt: skip
+    return Solver(MPMConfig.model_validate(payload)), info, out
+
+
+def switch(args: argparse.Namespace) -> None:
+    free = Path(args.free_run)
+    solver, info, out = held_from_free(free, args.rpm, args.vx_scale, args.window, args.duration, Path(args.out), args.threads)
+    body = solver.intruders[0]
+    if solver.continue_in_run_dir():
+        print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
+    else:
+        solver.restore(*mpm_io.load_checkpoint(free / CHECKPOINT))
+        body.state.vx, body.state.vz = info["vx"], 0.0
+        solver.start_from(solver.step_count, [body.state.as_dict()])  # the next rows average from here
+    out.mkdir(parents=True, exist_ok=True)
+    (out / META).write_text(json.dumps(info, indent=1))
+    treadmill = info["treadmill"]
+    t_end, chunk = info["t_switch"] + args.duration, 0.05
+
+    def shift() -> None:
+        if treadmill is not None and body.state.x > treadmill[0]:
+            solver.shift_window(math.floor((body.state.x - treadmill[1]) / solver.h) * solver.h)
+
+    shift()  # resumed at a chunk's end from the checkpoint written before that chunk's shift
+    start = time.perf_counter()
+    t_next = info["t_switch"] + chunk * math.floor((solver.t - info["t_switch"]) / chunk + 0.5)
+    while solver.t < t_end - 0.5 * solver.dt:
+        t_next = min(t_next + chunk, t_end)
+        solver.run(t_end=t_next, checkpoint_end=False)
+        r = solver.rows[-1]
+        print(json.dumps({"t": round(solver.t, 4), "x": round(body.state.x + solver.x_offset, 4), "z": round(body.state.z, 5),
+                          "fx": round(r["fx"], 3), "fz": round(r["fz"], 3), "wall": round(time.perf_counter() - start, 1)}), flush=True)
+        shift()
+    solver.checkpoint_run_folder()
+    info["wall_s"] = time.perf_counter() - start  # this invocation only (a resumed run: since the resume)
+    (out / META).write_text(json.dumps(info, indent=1))
+    print(f"wrote {out} in {info['wall_s']:.0f} s")
 
 
 def window_means(t: np.ndarray, window: float) -> dict[str, float]:
@@ -209,12 +297,20 @@ def main() -> None:
     r.add_argument("--cfl", type=float, default=DEFAULT_CFL, metavar="C",
                    help="time step dt = C h sqrt(rho_c / E) (MPMSettings.cfl; smaller: a check of the time step)")
     r.add_argument("--out", default="runs/fixed")
+    s = sub.add_parser("switch", help="a free run's wheel held from its last checkpoint, at its own or another omega")
+    s.add_argument("free_run", help="run folder of a free (coupled) wheel, with its checkpoint")
+    s.add_argument("--rpm", type=float, required=True, help="omega of the held wheel")
+    s.add_argument("--vx-scale", type=float, default=1.0, help="held forward speed / the free run's mean")
+    s.add_argument("--window", type=float, default=1.0, help="s: the free run's mean vx over its last WINDOW s")
+    s.add_argument("--duration", type=float, default=1.0, help="s held")
+    s.add_argument("--threads", type=int, default=None)
+    s.add_argument("--out", default="runs/switch")
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
     t.add_argument("--window", type=float, default=0.5, help="s, averaged at the end of each run")
     t.add_argument("--out", default="docs/figures/wheel_fixed_state")
     args = ap.parse_args()
-    run(args) if args.cmd == "run" else table(args)
+    {"run": run, "switch": switch, "table": table}[args.cmd](args)
 
 
 if __name__ == "__main__":
