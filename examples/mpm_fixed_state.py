@@ -173,9 +173,16 @@ def switch(args: argparse.Namespace) -> None:
         body.state.vx, body.state.vz = info["vx"], 0.0
         solver.start_from(solver.step_count, [body.state.as_dict()])  # the next rows average from here
     out.mkdir(parents=True, exist_ok=True)
+    # the free run's locomotion.json at the held omega, so that the tools that read a locomotion run
+    # folder (drft_at_mpm_state.py: DRFT's force along the held motion) read this one too
+    loco = json.loads((free / "locomotion.json").read_text())
+    (out / "locomotion.json").write_text(json.dumps({**loco, "omega_rpm": args.rpm, "held": info}, indent=1))
+    t_end, chunk = info["t_switch"] + args.duration, 0.05
+    if solver.t >= t_end - 0.5 * solver.dt:
+        print(f"{out}: already held to t = {solver.t:.3f} s")  # its fixed_state.json (and wall time) kept
+        return
     (out / META).write_text(json.dumps(info, indent=1))
     treadmill = info["treadmill"]
-    t_end, chunk = info["t_switch"] + args.duration, 0.05
 
     def shift() -> None:
         if treadmill is not None and body.state.x > treadmill[0]:
