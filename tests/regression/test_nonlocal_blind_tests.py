@@ -45,6 +45,14 @@ def _curve_sinkage(slip: float, radius: float) -> float:
     return radius * (c0 + c1 * slip + c2 * slip * slip)
 
 
+def _windows(figure_history, name: str, label: str, t0: float, t1: float, n: int) -> tuple[list[float], list[float]]:
+    """(v, sinkage) of the ``n`` 0.25 s windows of run ``label`` in ``name`` starting in [t0, t1)."""
+    h = figure_history(name)
+    ts = h.windows(label, t0, t1)
+    assert len(ts) == n
+    return [h[label, t][0] for t in ts], [h[label, t][1] for t in ts]
+
+
 @pytest.fixture(scope="module")
 def xi() -> float:
     return json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
@@ -154,25 +162,16 @@ def test_the_20_rpm_test_met(xi):
 def test_the_20_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """Over the last second the 0.25 s windows hold v within 0.1838-0.1874 m/s while the sinkage eases
     from 22.5 to 21.9 mm; at 21.9 mm DRFT's sinkage would still be within 15 % (-10 %)."""
-    label = "2.5 mm, 20 RPM, treadmill in 1 m"
-    h = figure_history("wheel_20rpm_nonlocal_treadmill.csv")
-    ts = h.windows(label, 4.0, 5.0)
-    assert len(ts) == 4
-    v = [h[label, t][0] for t in ts]
-    s = [h[label, t][1] for t in ts]
+    v, s = _windows(figure_history, "wheel_20rpm_nonlocal_treadmill.csv", "2.5 mm, 20 RPM, treadmill in 1 m", 4.0, 5.0, 4)
     assert 0.1836 < min(v) and max(v) < 0.1876
     assert s[-1] < s[0] and 21.8e-3 < min(s) and max(s) < 22.6e-3
     assert abs(19.73e-3 / min(s) - 1) < 0.15
 
+
 def test_the_10_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """From 3.0 s on the 0.25 s windows hold v within 0.0830-0.0842 m/s while the sinkage eases
     from 28.0 to 26.8 mm (27.08 to 26.84 mm across the last second's four windows: slowing, not flat)."""
-    label = "2.5 mm, 10 RPM, treadmill in 1 m"
-    h = figure_history("wheel_10rpm_nonlocal_treadmill.csv")
-    ts = h.windows(label, 3.0, 6.0)
-    assert len(ts) == 12
-    v = [h[label, t][0] for t in ts]
-    s = [h[label, t][1] for t in ts]
+    v, s = _windows(figure_history, "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 3.0, 6.0, 12)
     assert 0.0829 < min(v) and max(v) < 0.0843
     assert s[0] == pytest.approx(28.04e-3, abs=0.02e-3) and s[-1] == pytest.approx(26.84e-3, abs=0.02e-3)
     assert s[-4] - s[-1] == pytest.approx(0.24e-3, abs=0.02e-3)
