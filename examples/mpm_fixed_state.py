@@ -170,8 +170,7 @@ def switch(args: argparse.Namespace) -> None:
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     else:
         solver.restore(*mpm_io.load_checkpoint(free / CHECKPOINT))
-        body.state.vx, body.state.vz = info["vx"], 0.0
-        solver.start_from(solver.step_count, [body.state.as_dict()])  # the next rows average from here
+        body.state.vx, body.state.vz = info["vx"], 0.0  # the next row averages from the free run's last record
     out.mkdir(parents=True, exist_ok=True)
     # the free run's locomotion.json at the held omega, so that the tools that read a locomotion run
     # folder (drft_at_mpm_state.py: DRFT's force along the held motion) read this one too
