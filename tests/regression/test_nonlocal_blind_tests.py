@@ -313,3 +313,39 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
         for row, com in zip(rows, committed):
             for k in ("omega_rpm", "velocity", "sinkage", "slip", "drift"):
                 assert row[k] == pytest.approx(float(com[k]), rel=1e-12)
+
+
+def _switch_rows(name: str) -> dict[float, dict[str, float]]:
+    """The held rows of ``mpm_fixed_state.py table`` by omega (RPM), and DRFT's along them if given."""
+    with (FIG / name).open(newline="") as f:
+        return {float(r["omega_rpm"]): {k: float(r[k]) for k in ("z", "vx", "fx", "fz", "moment", "t_switch", "t_end")}
+                for r in csv.DictReader(f)}  # fmt: skip
+
+
+def _drft_along(name: str, model: str) -> dict[float, tuple[float, float]]:
+    with (FIG / name).open(newline="") as f:
+        return {float(r["omega_rpm"]): (float(r["fx"]), float(r["fz"])) for r in csv.DictReader(f) if r["model"] == model}
+
+
+def test_the_10_rpm_wheel_held_at_30_rpm_gains_lift_not_thrust():
+    """Registered in session 34: from the free 10 RPM run's checkpoint (6.0 s), held 1.2 s at its
+    height, at 10 RPM and its speed (control) and at 30 RPM and 3x its speed (the same slip); means over
+    the last 0.6 s. Control met (Fx -3.95 N against -3.92 +- 1.5, Fz 63.7 N against 61.7 +- 6); at
+    30 RPM dFx +0.67 N (within 1 N: the thrust does not move) and dFz +8.4 N (> 6 N: the lift grows
+    with the rates). Along the same motions xi-DRFT's lift grows by 1.0 N and its thrust falls 3.4 N."""
+    rows = _switch_rows("wheel_switch_10rpm.csv")
+    a, b = rows[10.0], rows[30.0]
+    assert a["t_switch"] == pytest.approx(6.0, abs=1e-3) and a["t_end"] == pytest.approx(7.19, abs=0.01) == b["t_end"]
+    assert a["z"] == b["z"] == pytest.approx(0.2288, abs=1e-4)
+    assert a["vx"] == pytest.approx(0.0838, abs=1e-4) and b["vx"] / a["vx"] == pytest.approx(3.0, rel=1e-9)
+    assert abs(a["fx"] + 3.92) < 1.5 and abs(a["fz"] - 61.7) < 6.0  # the control
+    assert (a["fx"], a["fz"]) == (pytest.approx(-3.95, abs=0.01), pytest.approx(63.75, abs=0.01))
+    assert b["fx"] - a["fx"] == pytest.approx(0.67, abs=0.01) and abs(b["fx"] - a["fx"]) <= 1.0
+    assert b["fz"] - a["fz"] == pytest.approx(8.37, abs=0.01) and b["fz"] - a["fz"] > 6.0
+    xi_drft = _drft_along("drft_at_switch_10rpm.csv", "xi-DRFT (xi 1.94)")
+    paper = _drft_along("drft_at_switch_10rpm.csv", "DRFT (paper)")
+    assert xi_drft[30.0][1] - xi_drft[10.0][1] == pytest.approx(0.98, abs=0.02)
+    assert xi_drft[30.0][0] - xi_drft[10.0][0] == pytest.approx(-3.41, abs=0.02)
+    assert abs(paper[30.0][1] - paper[10.0][1]) < 0.3
+    mpm = _drft_along("drft_at_switch_10rpm.csv", "MPM")
+    assert mpm[10.0] == (pytest.approx(a["fx"], rel=1e-9), pytest.approx(a["fz"], rel=1e-9))
