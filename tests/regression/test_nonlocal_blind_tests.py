@@ -349,3 +349,20 @@ def test_the_10_rpm_wheel_held_at_30_rpm_gains_lift_not_thrust():
     assert abs(paper[30.0][1] - paper[10.0][1]) < 0.3
     mpm = _drft_along("drft_at_switch_10rpm.csv", "MPM")
     assert mpm[10.0] == (pytest.approx(a["fx"], rel=1e-9), pytest.approx(a["fz"], rel=1e-9))
+
+
+def test_the_60_rpm_wheel_held_at_20_rpm_loses_lift_but_less_than_registered():
+    """Registered in session 34 after A and B: from the free 60 RPM run's checkpoint (5.5 s), held at
+    60 RPM (control, met: Fx -3.52 N, Fz 58.1 N) and at 20 RPM with a third of the speed. Thrust met
+    (dFx +0.23 N); the lift falls by 4.7 N, not the 6 N registered: the sign met, the size missed.
+    xi-DRFT's lift moves +0.4 N, the wrong way."""
+    rows = _switch_rows("wheel_switch_60rpm.csv")
+    c, d = rows[60.0], rows[20.0]
+    assert c["t_switch"] == pytest.approx(5.5, abs=1e-3) and c["z"] == d["z"] == pytest.approx(0.2373, abs=1e-4)
+    assert d["vx"] / c["vx"] == pytest.approx(1 / 3, rel=1e-9) and c["vx"] == pytest.approx(0.5984, abs=1e-4)
+    assert abs(c["fx"] + 3.93) < 1.5 and abs(c["fz"] - 61.8) < 6.0  # the control
+    assert d["fx"] - c["fx"] == pytest.approx(0.23, abs=0.01) and abs(d["fx"] - c["fx"]) <= 1.0
+    assert d["fz"] - c["fz"] == pytest.approx(-4.71, abs=0.01)
+    assert -6.0 < d["fz"] - c["fz"] < 0.0  # the registered -6 N missed; the sign met
+    xi_drft = _drft_along("drft_at_switch_60rpm.csv", "xi-DRFT (xi 1.94)")
+    assert xi_drft[20.0][1] - xi_drft[60.0][1] == pytest.approx(0.42, abs=0.02)
