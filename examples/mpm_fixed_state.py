@@ -44,7 +44,7 @@ from intrusim.mpm.config import FluidityConfig, MPMConfig, MuIConfig, Prescribed
 from intrusim.mpm.solver import CHECKPOINT, Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.locomotor import without_lugs
-from intrusim.scenarios.mpm_locomotion import MPMSettings, mpm_config, paper_settings
+from intrusim.scenarios.mpm_locomotion import MPMSettings, mpm_config, paper_settings, treadmill_shift
 
 DEFAULT_SWEEP_PAIRS = FluidityConfig.model_fields["sweep_pairs"].default
 DEFAULT_CFL = MPMSettings.model_fields["cfl"].default
@@ -120,8 +120,9 @@ def run(args: argparse.Namespace) -> None:
 
 
 def held_from_free(free: Path, rpm: float, vx_scale: float, window: float, duration: float,
-                   out_root: Path, threads: int | None = None) -> tuple[Solver, dict, Path]:
-    """The solver of a wheel held from ``free``'s last checkpoint (not yet restored), its META and folder.
+                   out_root: Path, threads: int | None = None) -> tuple[Solver, dict, Path, dict, tuple]:
+    """The solver of a wheel held from ``free``'s last checkpoint (not yet restored), its META, its
+    folder, the free run's locomotion.json and its checkpoint as read (arrays, meta).
 
     Held: the coupled motion with x and z frozen (free_x, free_z False), so the body keeps the
     velocity it is given and moves with the treadmill's shifts; omega ``rpm`` (the free run's sense
@@ -135,7 +136,8 @@ def held_from_free(free: Path, rpm: float, vx_scale: float, window: float, durat
         raise SystemExit(f"{free}: the body is not coupled (free); nothing to hold")
     if not (rpm > 0 and vx_scale > 0 and window > 0 and duration > 0):
         raise SystemExit("--rpm, --vx-scale, --window and --duration must be positive")
-    _, meta_ck = mpm_io.load_checkpoint(ckpt)
+    checkpoint = mpm_io.load_checkpoint(ckpt)
+    meta_ck = checkpoint[1]
     t0 = meta_ck["step_count"] * meta_ck["dt"]
     ts = np.genfromtxt(free / "timeseries.csv", delimiter=",", names=True)
     if ts["time"][0] > t0 - window:
@@ -159,22 +161,22 @@ def held_from_free(free: Path, rpm: float, vx_scale: float, window: float, durat
             "from_run": str(free), "t_switch": t0, "free_rpm": free_rpm, "free_vx_mean": means["vx"],
             "free_z_mean": means["z"], "free_window": window, "vx_scale": vx_scale,
             "treadmill": settings.get("treadmill")}  # fmt: skip
-    return Solver(MPMConfig.model_validate(payload)), info, out
+    return Solver(MPMConfig.model_validate(payload)), info, out, loco, checkpoint
 
 
 def switch(args: argparse.Namespace) -> None:
     free = Path(args.free_run)
-    solver, info, out = held_from_free(free, args.rpm, args.vx_scale, args.window, args.duration, Path(args.out), args.threads)
+    solver, info, out, loco, checkpoint = held_from_free(
+        free, args.rpm, args.vx_scale, args.window, args.duration, Path(args.out), args.threads)  # fmt: skip
     body = solver.intruders[0]
     if solver.continue_in_run_dir():
         print(f"resumed {out} at t = {solver.t:.3f} s", flush=True)
     else:
-        solver.restore(*mpm_io.load_checkpoint(free / CHECKPOINT))
+        solver.restore(*checkpoint)
         body.state.vx, body.state.vz = info["vx"], 0.0  # the next row averages from the free run's last record
     out.mkdir(parents=True, exist_ok=True)
     # the free run's locomotion.json at the held omega, so that the tools that read a locomotion run
     # folder (drft_at_mpm_state.py: DRFT's force along the held motion) read this one too
-    loco = json.loads((free / "locomotion.json").read_text())
     (out / "locomotion.json").write_text(json.dumps({**loco, "omega_rpm": args.rpm, "held": info}, indent=1))
     t_end, chunk = info["t_switch"] + args.duration, 0.05
     if solver.t >= t_end - 0.5 * solver.dt:
@@ -182,12 +184,7 @@ def switch(args: argparse.Namespace) -> None:
         return
     (out / META).write_text(json.dumps(info, indent=1))
     treadmill = info["treadmill"]
-
-    def shift() -> None:
-        if treadmill is not None and body.state.x > treadmill[0]:
-            solver.shift_window(math.floor((body.state.x - treadmill[1]) / solver.h) * solver.h)
-
-    shift()  # resumed at a chunk's end from the checkpoint written before that chunk's shift
+    treadmill_shift(solver, body, treadmill)  # resumed at a chunk's end from the checkpoint written before that chunk's shift
     start = time.perf_counter()
     t_next = info["t_switch"] + chunk * math.floor((solver.t - info["t_switch"]) / chunk + 0.5)
     while solver.t < t_end - 0.5 * solver.dt:
@@ -196,7 +193,7 @@ def switch(args: argparse.Namespace) -> None:
         r = solver.rows[-1]
         print(json.dumps({"t": round(solver.t, 4), "x": round(body.state.x + solver.x_offset, 4), "z": round(body.state.z, 5),
                           "fx": round(r["fx"], 3), "fz": round(r["fz"], 3), "wall": round(time.perf_counter() - start, 1)}), flush=True)
-        shift()
+        treadmill_shift(solver, body, treadmill)
     solver.checkpoint_run_folder()
     info["wall_s"] = time.perf_counter() - start  # this invocation only (a resumed run: since the resume)
     (out / META).write_text(json.dumps(info, indent=1))

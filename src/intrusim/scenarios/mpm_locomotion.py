@@ -300,6 +300,13 @@ def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[lis
     return drops, kept[-keep_fields:] if keep_fields else [], wall
 
 
+def treadmill_shift(solver: Any, body: Any, treadmill: tuple[float, float] | None) -> None:
+    """At a chunk's end: the moving window's shift, if ``body`` is past the trigger
+    (``treadmill`` = (x_trigger, x_target), m; None: no treadmill); back to the target in whole cells."""
+    if treadmill is not None and body.state.x > treadmill[0]:
+        solver.shift_window(math.floor((body.state.x - treadmill[1]) / solver.h) * solver.h)
+
+
 def run_mpm_steady(
     scenario: LocomotorScenario,
     settings: MPMSettings,
@@ -364,12 +371,7 @@ def run_mpm_steady(
     at_chunk_end = solver.step_count > 0 and solver.step_count == int(round(t_next / solver.dt))
     if at_chunk_end and solver.t >= t_avg and not any(abs(t - solver.t) < 0.5 * solver.dt for t, _ in drops):
         sample()  # killed between the checkpoint and the progress file of this chunk
-    def treadmill() -> None:
-        """At a chunk's end: the moving window's shift, if the body is past the trigger."""
-        if s.treadmill is not None and body.state.x > s.treadmill[0]:
-            solver.shift_window(math.floor((body.state.x - s.treadmill[1]) / solver.h) * solver.h)
-
-    treadmill()  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
+    treadmill_shift(solver, body, s.treadmill)  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
     wall0 = time.perf_counter() - wall_before
     near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
@@ -385,7 +387,7 @@ def run_mpm_steady(
             sample()
         if run_dir is not None:
             write_progress(run_dir, drops, time.perf_counter() - wall0)
-        treadmill()
+        treadmill_shift(solver, body, s.treadmill)
     if run_dir is not None:  # a longer run on this folder (a later t_max) goes on from here
         solver.checkpoint_run_folder()
     wall = time.perf_counter() - wall0
