@@ -212,13 +212,30 @@ def window_means(t: np.ndarray, window: float) -> dict[str, float]:
     return row
 
 
+def after_switch_means(t: np.ndarray, t_switch: float, every: float) -> list[dict[str, float]]:
+    """Mean force and moment over consecutive ``every``-second windows from the switch: how the held
+    wheel's force settles (``t_start``, ``t_end`` in seconds since the switch). Windows the series
+    covers to within one record interval only (the last record falls up to one interval before the
+    end of the hold)."""
+    if not every > 0.0:
+        raise SystemExit(f"--after-switch must be positive, got {every}")
+    rows, k = [], 0
+    gap = float(np.median(np.diff(t["time"])))
+    while t_switch + (k + 1) * every <= float(t["time"][-1]) + gap:
+        t0, t1 = t_switch + k * every, t_switch + (k + 1) * every
+        m = interval_means(t["time"], {c: t[c] for c in ("fx", "fz", "moment")}, t0 + 2e-9, t1)  # samples in (t0, t1]
+        rows.append({"t_start": round(k * every, 9), "t_end": round((k + 1) * every, 9), **m})
+        k += 1
+    return rows
+
+
 def table(args: argparse.Namespace) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows, series = [], []
+    rows, series, windows = [], [], []
     for folder in args.folders:
         for meta_path in sorted(Path(folder).glob(f"*/{META}")):
             run_dir = meta_path.parent
@@ -228,6 +245,9 @@ def table(args: argparse.Namespace) -> None:
             t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
             rows.append({**meta, **window_means(t, args.window), "run": str(run_dir)})
             series.append((meta, t))
+            if args.after_switch:
+                windows.extend({"omega_rpm": meta["omega_rpm"], "vx": meta["vx"], "z": meta["z"], **w}
+                               for w in after_switch_means(t, meta["t_switch"], args.after_switch))  # fmt: skip
     if not rows:
         raise SystemExit("no fixed-state run folders found")
     rows.sort(key=lambda r: (r.get("smooth", False), r["z"], r["vx"], -r["cell_mm"]))
@@ -238,6 +258,13 @@ def table(args: argparse.Namespace) -> None:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
+    if windows:
+        path = out.with_name(out.name + "_after_switch.csv")
+        with path.open("w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(windows[0]))
+            w.writeheader()
+            w.writerows(windows)
+        print(f"wrote {path}: {len(windows)} windows of {args.after_switch:g} s after the switch")
     print(f"| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
@@ -311,6 +338,8 @@ def main() -> None:
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
     t.add_argument("--window", type=float, default=0.5, help="s, averaged at the end of each run")
+    t.add_argument("--after-switch", type=float, default=None, metavar="S",
+                   help="also write OUT_after_switch.csv: means over consecutive S-second windows from the switch")
     t.add_argument("--out", default="docs/figures/wheel_fixed_state")
     args = ap.parse_args()
     {"run": run, "switch": switch, "table": table}[args.cmd](args)

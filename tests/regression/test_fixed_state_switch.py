@@ -86,3 +86,25 @@ def test_bad_input_is_refused_before_compute(load_example, free_run, tmp_path):
     with pytest.raises(SystemExit, match="longer than the run"):
         mod.held_from_free(free_run, 30.0, 1.0, 5.0, 0.1, tmp_path / "held")
     assert not (tmp_path / "held").exists()
+
+
+def test_the_table_averages_whole_windows_after_the_switch(load_example, free_run, tmp_path):
+    """``table --after-switch 0.05`` on a 0.2 s hold: four windows, each the mean of the held rows in
+    (t_switch + k 0.05, t_switch + (k + 1) 0.05] (the last one short of its end by less than one
+    record); a window past that is left out; S <= 0 refused."""
+    mod = load_example("mpm_fixed_state")
+    folder, rows = _switch(mod, free_run, tmp_path / "held", 30.0, duration=0.2)
+    t_switch = json.loads((folder / "fixed_state.json").read_text())["t_switch"]
+    fig = tmp_path / "fig" / "switch"
+    mod.table(argparse.Namespace(folders=[str(tmp_path / "held")], window=0.1, after_switch=0.05, out=str(fig)))
+    with (tmp_path / "fig" / "switch_after_switch.csv").open(newline="") as f:
+        windows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    assert [(w["t_start"], w["t_end"]) for w in windows] == [(0.0, 0.05), (0.05, 0.1), (0.1, 0.15), (0.15, 0.2)]
+    for k, w in enumerate(windows):
+        sel = [r for r in rows if t_switch + 0.05 * k + 1e-9 < r["time"] <= t_switch + 0.05 * (k + 1) + 1e-9]
+        assert 4 <= len(sel) <= 6 and w["omega_rpm"] == 30.0
+        assert w["fz"] == pytest.approx(np.mean([r["fz"] for r in sel]), rel=1e-12)
+        assert w["fx"] == pytest.approx(np.mean([r["fx"] for r in sel]), rel=1e-12)
+    assert len(mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.15)) == 1  # 0.15-0.3 s is not held
+    with pytest.raises(SystemExit, match="must be positive"):
+        mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.0)
