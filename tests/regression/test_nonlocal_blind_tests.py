@@ -425,3 +425,35 @@ def test_the_20_rpm_pair_held_longer_keeps_its_lift_gap():
     assert f["fx"] - e["fx"] == pytest.approx(0.68, abs=0.01) and abs(f["fx"] - e["fx"]) <= 1.0
     short = _switch_rows("wheel_switch_20rpm.csv")
     assert short[20.0]["t_end"] < e["t_end"] - 0.5  # the same runs, 0.6 s on
+
+
+def test_the_15_rpm_wheel_held_at_45_rpm_keeps_a_lasting_lift_gap():
+    """Registered in session 36 (cfca0b7, 47f5656): from the free 15 RPM run's checkpoint (5.5 s), held
+    1.8 s at 15 RPM (control, met: Fx -3.82 N, Fz 63.60 N against the free -4.01 N, 61.75 N) and at 45
+    RPM with 3x the speed; means over the last 0.6 s. Thrust met (dFx -0.23 N); lasting lift +5.83 N
+    (registered +2.5 to +7 N), larger than from the 20 RPM state (+3.6 N); the first 0.3 s (+7.22 N)
+    above it, a weak relaxation; xi-DRFT's lift moves -0.97 N (registered: less than 1.5 N)."""
+    rows = _switch_rows("wheel_switch_15rpm.csv")
+    g, h = rows[15.0], rows[45.0]
+    assert g["t_switch"] == pytest.approx(5.5, abs=1e-3) and g["t_end"] == pytest.approx(7.29, abs=0.01) == h["t_end"]
+    assert g["z"] == h["z"] == pytest.approx(0.2324, abs=1e-4)
+    assert g["vx"] == pytest.approx(0.1364, abs=1e-4) and h["vx"] / g["vx"] == pytest.approx(3.0, rel=1e-9)
+    free = _settled("wheel_15rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 15 RPM, treadmill in 1 m", (4.5, 5.5), 0.1364, 23.5e-3, 0.181)
+    assert g["vx"] == pytest.approx(free["velocity"], rel=1e-9)
+    assert abs(g["fx"] + 4.01) < 1.5 and abs(g["fz"] - 61.75) < 6.0  # the control
+    assert h["fx"] - g["fx"] == pytest.approx(-0.23, abs=0.01) and abs(h["fx"] - g["fx"]) <= 1.0
+    assert h["fz"] - g["fz"] == pytest.approx(5.83, abs=0.01) and 2.5 <= h["fz"] - g["fz"] <= 7.0
+    long20 = _switch_rows("wheel_switch_20rpm_long.csv")
+    assert h["fz"] - g["fz"] > long20[60.0]["fz"] - long20[20.0]["fz"] + 2.0  # more lasting lift at the slower state
+    with (FIG / "wheel_switch_15rpm_after_switch.csv").open(newline="") as f:
+        win = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    by = {(r["omega_rpm"], r["t_start"]): r["fz"] for r in win}
+    gaps = [by[45.0, t] - by[15.0, t] for t in (0.0, 0.3, 0.6, 0.9, 1.2, 1.5)]
+    assert len(win) == 12 and gaps[0] == pytest.approx(7.22, abs=0.01)
+    assert gaps[0] > h["fz"] - g["fz"]  # the relaxation, registered
+    assert all(5.3 < d < 6.4 for d in gaps[2:])  # then held within about 1 N
+    assert (gaps[4] + gaps[5]) / 2 == pytest.approx(h["fz"] - g["fz"], abs=0.05)  # the windows are the table's last 0.6 s
+    xi_drft = _drft_along("drft_at_switch_15rpm.csv", "xi-DRFT (xi 1.94)")
+    assert xi_drft[45.0][1] - xi_drft[15.0][1] == pytest.approx(-0.97, abs=0.02) and abs(xi_drft[45.0][1] - xi_drft[15.0][1]) < 1.5
+    mpm = _drft_along("drft_at_switch_15rpm.csv", "MPM")
+    assert mpm[15.0] == (pytest.approx(g["fx"], rel=1e-9), pytest.approx(g["fz"], rel=1e-9))
