@@ -190,6 +190,20 @@ def test_the_15_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     assert abs(19.67e-3 / min(s) - 1) > 0.15  # the sinkage miss holds at the shallowest window
 
 
+def test_the_15_rpm_wheel_carried_on_to_6p5_s_puts_drft_on_the_15_percent_line(xi):
+    """Registered in session 36 (fa14d90): the free 15 RPM run from 5.5 to 6.5 s. Over 5.5-6.5 s
+    (drift 1.6 %) v 0.1367 m/s, sinkage 23.14 mm (expected 23.0-23.4 mm, 0.135-0.139 m/s: met); below
+    the registered 23.14 mm line by 0.004 mm, so xi-DRFT's sinkage is -14.98 %: inside 15 %, at the limit."""
+    st = _settled("wheel_15rpm_nonlocal_treadmill_6p5s_steady.csv", "2.5 mm, 15 RPM, treadmill in 1 m, to 6.5 s", (5.5, 6.5),
+                  0.1367, 23.14e-3, 0.179, sinkage_tol=0.01e-3)  # fmt: skip
+    assert 23.0e-3 <= st["sinkage"] <= 23.4e-3 and 0.135 <= st["velocity"] <= 0.139
+    v, s, _ = _drft(grousered_wheel_scenario(), xi, 15.0)
+    assert s / st["sinkage"] - 1 == pytest.approx(-0.1498, abs=0.0002) and st["sinkage"] < 23.14e-3
+    assert v / st["velocity"] - 1 == pytest.approx(0.093, abs=0.002)
+    first = _steady("wheel_15rpm_nonlocal_treadmill_steady.csv")["2.5 mm, 15 RPM, treadmill in 1 m"]
+    assert st["sinkage"] < first["sinkage"] - 0.3e-3 and st["slip"] < first["slip"]  # still easing
+
+
 def test_the_20_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """Over the last second the 0.25 s windows hold v within 0.1838-0.1874 m/s while the sinkage eases
     from 22.5 to 21.9 mm; at 21.9 mm DRFT's sinkage would still be within 15 % (-10 %)."""
