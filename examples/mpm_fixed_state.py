@@ -24,7 +24,9 @@ depends on omega:
 state and cell size; with --snapshot-every S also particle snapshots every S seconds (VTK + PNG,
 read by examples/shear_layer.py). `table` averages fx, fz and the moment (3D, N and N m, on the wheel) over
 --window (default: the last 0.5 s, five grouser periods at 30 RPM) of each run and writes
-NAME.csv and NAME.png (the force histories).
+NAME.csv and NAME.png (the force histories); with --after-switch S, for `switch` runs, also
+NAME_after_switch.csv, the means over consecutive S-second windows from the switch (how the held
+force settles).
 """
 
 from __future__ import annotations
@@ -245,11 +247,13 @@ def table(args: argparse.Namespace) -> None:
             t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
             rows.append({**meta, **window_means(t, args.window), "run": str(run_dir)})
             series.append((meta, t))
-            if args.after_switch:
+            if args.after_switch is not None and "t_switch" in meta:
                 windows.extend({"omega_rpm": meta["omega_rpm"], "vx": meta["vx"], "z": meta["z"], **w}
                                for w in after_switch_means(t, meta["t_switch"], args.after_switch))  # fmt: skip
     if not rows:
         raise SystemExit("no fixed-state run folders found")
+    if args.after_switch is not None and not windows:
+        raise SystemExit("--after-switch: no held (`switch`) run among the folders, or none held a whole window")
     rows.sort(key=lambda r: (r.get("smooth", False), r["z"], r["vx"], -r["cell_mm"]))
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -107,4 +107,6 @@ def test_the_table_averages_whole_windows_after_the_switch(load_example, free_ru
         assert w["fx"] == pytest.approx(np.mean([r["fx"] for r in sel]), rel=1e-12)
     assert len(mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.15)) == 1  # 0.15-0.3 s is not held
     with pytest.raises(SystemExit, match="must be positive"):
-        mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.0)
+        mod.table(argparse.Namespace(folders=[str(tmp_path / "held")], window=0.1, after_switch=0.0, out=str(fig)))
+    with pytest.raises(SystemExit, match="none held a whole window"):
+        mod.table(argparse.Namespace(folders=[str(tmp_path / "held")], window=0.1, after_switch=0.5, out=str(fig)))
