@@ -181,6 +181,24 @@ def test_the_15_rpm_test_v_met_sinkage_missed_as_registered(xi):
     assert slow["slip"] - st["slip"] > 4 * (st["slip"] - fast["slip"])
 
 
+def test_the_12p5_rpm_test_met_as_registered(xi):
+    """Large wheel, 12.5 RPM, 2.5 mm, registered in session 36 (a6fe694): settled over 4.5-5.5 s (drift
+    0.3 %) at v 0.1098 m/s, sinkage 24.9 mm, slip 0.209 (registered 0.195-0.215, v 0.1092-0.1117, on the
+    quadratic within 5 %: +2.4 %). xi-DRFT (v 0.1245 m/s, 19.65 mm): v +13.4 % (within 15 %: the MPM's v
+    above 0.1083 m/s), sinkage -21.2 % (outside: deeper than 23.12 mm), as registered."""
+    st = _settled("wheel_12p5rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 12.5 RPM, treadmill in 1 m", (4.5, 5.5), 0.1098, 24.94e-3, 0.209)
+    v, s, slip = _drft(grousered_wheel_scenario(), xi, 12.5)
+    assert (v, s) == (pytest.approx(0.1245, abs=1e-4), pytest.approx(19.65e-3, abs=0.01e-3))  # as registered
+    assert 0.195 <= st["slip"] <= 0.215 and 0.1092 <= st["velocity"] <= 0.1117
+    assert abs(st["sinkage"] / _curve_sinkage(st["slip"], LARGE_R) - 1) < 0.05
+    assert v / st["velocity"] - 1 == pytest.approx(0.134, abs=0.002) and st["velocity"] > 0.1083
+    assert s / st["sinkage"] - 1 == pytest.approx(-0.212, abs=0.002) and st["sinkage"] > 23.12e-3
+    assert slip == pytest.approx(0.103, abs=0.003)
+    slips = [_steady(f"wheel_{n}rpm_nonlocal_treadmill_steady.csv")[f"2.5 mm, {w} RPM, treadmill in 1 m"]["slip"]
+             for n, w in (("10", "10"), ("12p5", "12.5"), ("15", "15"), ("20", "20"))]  # fmt: skip
+    assert all(a > b for a, b in zip(slips, slips[1:]))  # the slip falls with omega at every step
+
+
 def test_the_15_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """Over the last second the 0.25 s windows hold v within 0.1360-0.1368 m/s while the sinkage eases
     from 23.8 to 23.4 mm, flat over the last three windows (23.39, 23.39, 23.36 mm)."""
@@ -345,7 +363,8 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
     mod = load_example("steady_to_sweep")
     for steadies, folder, sweep, cells in (
         (["wheel_60rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "grousered_wheel_mpm_sweep.csv", 2.5),
-        (["wheel_10rpm_nonlocal_treadmill_steady.csv", "wheel_15rpm_nonlocal_treadmill_steady.csv",
+        (["wheel_10rpm_nonlocal_treadmill_steady.csv", "wheel_12p5rpm_nonlocal_treadmill_steady.csv",
+          "wheel_15rpm_nonlocal_treadmill_steady.csv",
           "wheel_20rpm_nonlocal_treadmill_steady.csv", "wheel_60rpm_nonlocal_treadmill_steady.csv"],
          "mpm_nonlocal_blind_all", "grousered_wheel_mpm_sweep.csv", 2.5),
         (["small_wheel_30rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "small_grousered_wheel_mpm_sweep.csv", 2.5),
