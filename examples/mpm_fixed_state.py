@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from intrusim.analysis.steady import interval_means
+from intrusim.analysis.steady import interval_means, window_means
 from intrusim.mpm import io as mpm_io
 from intrusim.mpm.config import FluidityConfig, MPMConfig, MuIConfig, PrescribedMotion
 from intrusim.mpm.solver import CHECKPOINT, Solver
@@ -202,7 +202,7 @@ def switch(args: argparse.Namespace) -> None:
     print(f"wrote {out} in {info['wall_s']:.0f} s")
 
 
-def window_means(t: np.ndarray, window: float) -> dict[str, float]:
+def last_window_means(t: np.ndarray, window: float) -> dict[str, float]:
     """Mean force, moment and their ahead parts over the last ``window`` seconds of a time series."""
     t_end = float(t["time"][-1])
     cols = ("fx", "fz", "moment", "fx_ahead", "fz_ahead", "moment_ahead")
@@ -215,20 +215,14 @@ def window_means(t: np.ndarray, window: float) -> dict[str, float]:
 
 
 def after_switch_means(t: np.ndarray, t_switch: float, every: float) -> list[dict[str, float]]:
-    """Mean force and moment over consecutive ``every``-second windows from the switch: how the held
-    wheel's force settles (``t_start``, ``t_end`` in seconds since the switch). Windows the series
-    covers to within one record interval only (the last record falls up to one interval before the
-    end of the hold)."""
+    """Mean force and moment over consecutive ``every``-second windows (t0, t1] from the switch: how
+    the held wheel's force settles (``t_start``, ``t_end`` in seconds since the switch). Windows the
+    series covers to within one record interval only (the last record falls up to one interval
+    before the end of the hold)."""
     if not every > 0.0:
         raise SystemExit(f"--after-switch must be positive, got {every}")
-    rows, k = [], 0
-    gap = float(np.median(np.diff(t["time"])))
-    while t_switch + (k + 1) * every <= float(t["time"][-1]) + gap:
-        t0, t1 = t_switch + k * every, t_switch + (k + 1) * every
-        m = interval_means(t["time"], {c: t[c] for c in ("fx", "fz", "moment")}, t0 + 2e-9, t1)  # samples in (t0, t1]
-        rows.append({"t_start": round(k * every, 9), "t_end": round((k + 1) * every, 9), **m})
-        k += 1
-    return rows
+    cols = {c: t[c] for c in ("fx", "fz", "moment")}
+    return window_means(t["time"], cols, every, origin=t_switch, right_closed=True, whole_only=True)
 
 
 def table(args: argparse.Namespace) -> None:
@@ -245,7 +239,7 @@ def table(args: argparse.Namespace) -> None:
                 continue
             meta = json.loads(meta_path.read_text())
             t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
-            rows.append({**meta, **window_means(t, args.window), "run": str(run_dir)})
+            rows.append({**meta, **last_window_means(t, args.window), "run": str(run_dir)})
             series.append((meta, t))
             if args.after_switch is not None and "t_switch" in meta:
                 windows.extend({"omega_rpm": meta["omega_rpm"], "vx": meta["vx"], "z": meta["z"], **w}

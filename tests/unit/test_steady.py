@@ -69,6 +69,23 @@ def test_window_means_average_each_window_and_skip_empty_ones():
         window_means(t, {"v": v[:-1]}, 0.25)
 
 
+def test_window_means_from_an_origin_right_closed_and_whole_only():
+    # records every 0.1 s from a switch at 1.0 s; (t0, t1] windows give the record at the switch
+    # to the motion before it, and a 0.3 s window the series stops short of (by more than one
+    # record interval) is left out
+    t = 1.0 + 0.1 * np.arange(-2, 8)  # 0.8 ... 1.7 s (sample times with rounding)
+    v = np.arange(len(t), dtype=float)  # 0 ... 9
+    rows = window_means(t, {"v": v}, 0.3, origin=1.0, right_closed=True, whole_only=True)
+    assert [(r["t_start"], r["t_end"]) for r in rows] == [(0.0, 0.3), (0.3, 0.6)]
+    assert [r["v"] for r in rows] == pytest.approx([4.0, 7.0])  # samples 3-5 and 6-8
+    part = window_means(t, {"v": v}, 0.3, origin=1.0, right_closed=True)
+    assert len(part) == 3 and part[-1]["v"] == pytest.approx(9.0)  # the partial window (1.6, 1.9]
+    left = window_means(t, {"v": v}, 0.3, origin=1.0)
+    assert left[0]["v"] == pytest.approx(3.0)  # [1.0, 1.3): samples 2-4
+    t2 = np.append(t, 1.8)  # the last record one interval before 1.9: (1.6, 1.9] is whole
+    assert len(window_means(t2, {"v": np.append(v, 10.0)}, 0.3, origin=1.0, whole_only=True)) == 3
+
+
 def test_mean_wrench_along_own_steady_motion_is_the_load():
     # along DRFT's own steady trajectory its mean force balances the load (no push: fx = 0,
     # fz = weight); along a faster, slipping-less copy of it the wheel is pushed back and lifted

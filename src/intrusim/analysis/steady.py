@@ -107,11 +107,22 @@ def _lowest_height(px: np.ndarray, pz: np.ndarray, z: np.ndarray, s: np.ndarray,
     return out
 
 
-def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[str, float]]:
-    """Means of ``columns`` over consecutive windows [t0, t0 + every), t0 = 0, every, ... < time[-1].
+def window_means(
+    time: Any, columns: dict[str, Any], every: float, *, origin: float = 0.0, right_closed: bool = False,
+    whole_only: bool = False, tol: float = 1e-9,
+) -> list[dict[str, float]]:
+    """Means of ``columns`` over consecutive windows of ``every`` seconds from ``origin``.
 
     The history of a run at a glance (has it settled? does it dig in?): one row per window that
-    holds samples, with ``t_start``, ``t_end`` and the mean of each column. Empty windows are skipped.
+    holds samples, with ``t_start``, ``t_end`` (seconds since ``origin``) and the mean of each
+    column. Empty windows are skipped.
+
+    * ``right_closed`` False: windows [t0, t1) (a sample on a boundary opens the next window);
+      True: (t0 + tol, t1 + tol] (it closes the window that ends there, as a held run's record at
+      the switch belongs to the motion before it; ``tol`` absorbs the rounding of sample times:
+      0.30000000000000004 closes the window that ends at 0.3).
+    * ``whole_only`` False: the last window may be partial (it ends after the last sample); True:
+      only windows that the series covers to within one record interval (the median spacing).
     """
     t = np.asarray(time, float)
     cols = {name: np.asarray(c, float) for name, c in columns.items()}
@@ -119,12 +130,21 @@ def window_means(time: Any, columns: dict[str, Any], every: float) -> list[dict[
         raise InputError(f"window length must be positive, got {every}")
     if t.ndim != 1 or any(c.shape != t.shape for c in cols.values()):
         raise InputError("time and every column must be 1-D arrays of one length")
+    if not t.size:
+        return []
+    if whole_only:
+        gap = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+        count = 0
+        while origin + (count + 1) * every <= t[-1] + gap:
+            count += 1
+    else:
+        count = int(np.ceil((t[-1] - origin) / every))
     rows: list[dict[str, float]] = []
-    for k in range(int(np.ceil(t[-1] / every)) if t.size else 0):
-        t0 = k * every
-        sel = (t >= t0) & (t < t0 + every)
+    for k in range(max(count, 0)):
+        t0, t1 = origin + k * every, origin + (k + 1) * every
+        sel = (t > t0 + tol) & (t <= t1 + tol) if right_closed else (t >= t0) & (t < t1)
         if sel.any():
-            rows.append({"t_start": round(t0, 9), "t_end": round(t0 + every, 9),
+            rows.append({"t_start": round(k * every, 9), "t_end": round((k + 1) * every, 9),
                          **{name: float(c[sel].mean()) for name, c in cols.items()}})  # fmt: skip
     return rows
 
