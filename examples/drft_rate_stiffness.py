@@ -23,6 +23,10 @@ Writes OUT_held.csv (c of each pair), OUT.csv (each model at each omega against 
 OUT.json (the fits) and OUT.png (the sinkage and speed errors against omega; the xi each check
 would need against the held pairs' power laws). A stiffness moves DRFT's sinkage, but hardly
 its slip, so what it cannot close shows in the speed.
+
+One more variant asks the same of the structural correction: xi-DRFT with each run's own measured
+rear drop (the sweep CSVs' surface_drop, as dh = r psi with psi constant) in place of the paper's
+dh = r (r omega^2 / g), xi refitted on the fit runs.
 """
 
 from __future__ import annotations
@@ -72,13 +76,15 @@ class Drft:
     def __init__(self, force_model: dict) -> None:
         self.base = with_mpm_push(grousered_wheel_scenario())
         self.force_model = dict(force_model)
-        self.cache: dict[tuple[float, float], tuple[float, float, float]] = {}
+        self.cache: dict[tuple[float, float, float | None], tuple[float, float, float]] = {}
 
-    def state(self, omega_rpm: float, xi: float) -> tuple[float, float, float]:
-        """(v m/s, sinkage m, slip) at this omega with this xi; NaN if DRFT fails there."""
-        key = (float(omega_rpm), float(xi))
+    def state(self, omega_rpm: float, xi: float, drop: float | None = None) -> tuple[float, float, float]:
+        """(v m/s, sinkage m, slip) at this omega with this xi; NaN if DRFT fails there. ``drop``: a
+        rear drop dh (m) in place of the calibration's free-surface law (psi = dh / r, constant)."""
+        key = (float(omega_rpm), float(xi), drop)
         if key not in self.cache:
-            fm = ForceModelConfig.model_validate(dict(self.force_model, xi=float(xi)))
+            law = {} if drop is None else dict(psi_slope=0.0, psi_offset=float(drop) / self.base.radius)
+            fm = ForceModelConfig.model_validate(dict(self.force_model, xi=float(xi), **law))
             rec = drft_steady_states(self.base.model_copy(update=dict(force_model=fm)), [omega_rpm]).records[0]
             self.cache[key] = (rec["velocity"], rec["sinkage"], rec["slip"]) if rec["ok"] else (math.nan,) * 3
         return self.cache[key]
@@ -89,13 +95,15 @@ def xi_at(xi_ref: float, c: float, omega_rpm: float, omega_ref: float) -> float:
     return xi_ref * (omega_rpm / omega_ref) ** c
 
 
-def fit_xi_ref(model: Drft, c: float, fit: list[dict], omega_ref: float) -> float:
-    """xi_ref minimising the summed squared relative errors of v and sinkage on the fit runs."""
+def fit_xi_ref(model: Drft, c: float, fit: list[dict], omega_ref: float, own_drop: bool = False) -> float:
+    """xi_ref minimising the summed squared relative errors of v and sinkage on the fit runs
+    (``own_drop``: each run with its measured rear drop)."""
 
     def cost(log_xi: float) -> float:
         total = 0.0
         for r in fit:
-            v, s, _ = model.state(r["omega_rpm"], xi_at(math.exp(log_xi), c, r["omega_rpm"], omega_ref))
+            drop = r["surface_drop"] if own_drop else None
+            v, s, _ = model.state(r["omega_rpm"], xi_at(math.exp(log_xi), c, r["omega_rpm"], omega_ref), drop)
             total += ((v - r["velocity"]) / r["velocity"]) ** 2 + ((s - r["sinkage"]) / r["sinkage"]) ** 2
         return total if math.isfinite(total) else 1e6
 
@@ -117,8 +125,8 @@ def xi_for_sinkage(model: Drft, omega_rpm: float, sinkage: float) -> float:
 
 def mpm_rows(path: Path, role: str) -> list[dict]:
     ref = load_reference(path)
-    return [{"omega_rpm": r["omega_rpm"], "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"], "role": role}
-            for r in ref.records]  # fmt: skip
+    return [{"omega_rpm": r["omega_rpm"], "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
+             "surface_drop": r["surface_drop"], "role": role} for r in ref.records]  # fmt: skip
 
 
 def analyse(held: list[Path], calibration: Path, fit_csv: Path, check_csv: Path, omega_ref: float = 30.0) -> dict:
@@ -139,6 +147,13 @@ def analyse(held: list[Path], calibration: Path, fit_csv: Path, check_csv: Path,
             rows.append({"model": name, "c": c, "xi_ref": xi_ref, "omega_rpm": r["omega_rpm"], "xi": xi, "velocity": v,
                          "sinkage": s, "slip": slip, "mpm_velocity": r["velocity"], "mpm_sinkage": r["sinkage"],
                          "mpm_slip": r["slip"], "dv": v / r["velocity"] - 1.0, "ds": s / r["sinkage"] - 1.0, "role": r["role"]})  # fmt: skip
+    xi_drop = fit_xi_ref(model, 0.0, fit, omega_ref, own_drop=True)
+    fits["the MPM's own drop"] = {"c": 0.0, "xi_ref": xi_drop}
+    for r in fit + check:
+        v, s, slip = model.state(r["omega_rpm"], xi_drop, r["surface_drop"])
+        rows.append({"model": "the MPM's own drop", "c": 0.0, "xi_ref": xi_drop, "omega_rpm": r["omega_rpm"], "xi": xi_drop,
+                     "velocity": v, "sinkage": s, "slip": slip, "mpm_velocity": r["velocity"], "mpm_sinkage": r["sinkage"],
+                     "mpm_slip": r["slip"], "dv": v / r["velocity"] - 1.0, "ds": s / r["sinkage"] - 1.0, "role": r["role"]})  # fmt: skip
     xi0 = fits["xi-DRFT (c = 0)"]["xi_ref"]
     for r in check:
         xi = xi_for_sinkage(model, r["omega_rpm"], r["sinkage"])
@@ -156,7 +171,9 @@ def plot(result: dict, path: Path) -> None:
         sel = sorted((r for r in rows if r["model"] == name), key=lambda r: r["omega_rpm"])
         w = [r["omega_rpm"] for r in sel]
         style = dict(marker="s", ls=":", color="k") if name.startswith("xi for") else dict(marker="o")
-        label = name if name.startswith("xi") else f"{name} ({fits[name]['c']:.3f})"
+        if name == "the MPM's own drop":
+            style = dict(marker="^", ls="--", color="0.5")
+        label = name if name.startswith(("xi", "the")) else f"{name} ({fits[name]['c']:.3f})"
         axes[0].plot(w, [100 * r["ds"] for r in sel], label=label, **style)
         axes[1].plot(w, [100 * r["dv"] for r in sel], label=label, **style)
     for ax, what in zip(axes[:2], ("sinkage", "v")):

@@ -77,3 +77,15 @@ def test_even_the_xi_of_the_mpm_sinkage_leaves_the_slip_and_the_speed(result):
     assert c_needed > 5 * max(p["c"] for p in result["pairs"])
     assert r["slip"] < 0.13 and r["mpm_slip"] > 0.24
     assert r["dv"] > 0.15
+
+
+def test_nor_is_it_the_rear_drop(result):
+    """With each run's own measured rear drop (3.0-5.8 mm) in place of psi, xi refits to within
+    0.5 % of 1.938 and no error moves by more than 0.5 points: at ~20 mm deep the structural
+    correction hardly loads the rear half."""
+    xi0 = result["fits"]["xi-DRFT (c = 0)"]["xi_ref"]
+    assert result["fits"]["the MPM's own drop"]["xi_ref"] == pytest.approx(xi0, rel=5e-3)
+    for w in (10.0, 12.5, 15.0, 20.0, 30.0, 60.0, 90.0):
+        a, b = _row(result, "the MPM's own drop", w), _row(result, "xi-DRFT (c = 0)", w)
+        assert abs(a["dv"] - b["dv"]) < 0.005 and abs(a["ds"] - b["ds"]) < 0.005
+    assert _row(result, "the MPM's own drop", 10.0)["slip"] < 0.11
