@@ -89,3 +89,10 @@ def test_nor_is_it_the_rear_drop(result):
         a, b = _row(result, "the MPM's own drop", w), _row(result, "xi-DRFT (c = 0)", w)
         assert abs(a["dv"] - b["dv"]) < 0.005 and abs(a["ds"] - b["ds"]) < 0.005
     assert _row(result, "the MPM's own drop", 10.0)["slip"] < 0.11
+
+
+def test_at_10_rpm_no_drop_up_to_30_mm_moves_the_sinkage(script):
+    fm = json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["force_model"]
+    model = script.Drft(fm)
+    sinkage = [model.state(10.0, fm["xi"], dh)[1] for dh in (0.0, 0.01, 0.03)]
+    assert max(sinkage) - min(sinkage) < 0.3e-3, sinkage  # 0.17 mm
