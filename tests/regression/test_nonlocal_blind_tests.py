@@ -332,6 +332,59 @@ def test_the_small_wheel_at_1p25_mm_settles_on_drft_from_3_s(small_drft, figure_
         assert h[label, t] == before[FINE, t]
 
 
+FINE60 = "small wheel, 1.25 mm, 60 RPM, 0.45 m box"
+
+
+def test_the_small_wheel_at_60_rpm_missed_in_sinkage_and_off_the_large_wheels_curve(xi):
+    """Registered in session 37 (02a9c2a; the extension rule 09114bb, fixed at t = 0.75 s). Over
+    2.0-2.5 s (drift 0.5 %) v 0.3107 m/s, sinkage 8.58 mm: xi-DRFT's sinkage +14.9 %, within 3 points
+    of 15 %, so the run went on to 3.0 s and 2.5-3.0 s decides (drift 0.1 %): v 0.3128 m/s, sinkage
+    8.41 mm, slip 0.061. xi-DRFT (0.2982 m/s, 9.86 mm): v -4.7 % (met), sinkage +17.2 % (missed). The
+    collapse on the large wheel (slip 0.08-0.13, sinkage 8.9-11.0 mm): missed, low. The paper's DRFT
+    v -11.1 %, sinkage +138 % (expected +80 to +125 %)."""
+    first = _settled("small_wheel_60rpm_nonlocal_cells_steady.csv", FINE60, (2.0, 2.5), 0.3107, 8.58e-3, 0.067)
+    st = _settled("small_wheel_60rpm_nonlocal_cells_3s_steady.csv", FINE60 + ", to 3.0 s", (2.5, 3.0), 0.3128, 8.41e-3, 0.061)
+    v, s, slip = _drft(small_wheel_scenario(), xi, 60.0)
+    assert (v, s, slip) == (pytest.approx(0.2982, abs=2e-4), pytest.approx(9.86e-3, abs=0.02e-3), pytest.approx(0.104, abs=0.002))
+    assert 0.12 < s / first["sinkage"] - 1 < 0.15  # the first window: inside 15 %, within 3 points of it
+    assert abs(v / st["velocity"] - 1) < 0.15 and v / st["velocity"] - 1 == pytest.approx(-0.047, abs=0.003)
+    assert s / st["sinkage"] - 1 > 0.15 and s / st["sinkage"] - 1 == pytest.approx(0.172, abs=0.003)
+    assert st["slip"] < 0.08 and st["sinkage"] < 8.9e-3  # below the registered ranges
+    assert abs(st["sinkage"] / _curve_sinkage(st["slip"], SMALL_R) - 1) < 0.10  # -7.9 %: on the slip-sinkage curve
+    vp, sp, _ = _drft(small_wheel_scenario(), 0.35, 60.0)
+    assert vp / st["velocity"] - 1 == pytest.approx(-0.111, abs=0.003) and sp / st["sinkage"] - 1 == pytest.approx(1.38, abs=0.02)
+
+
+def test_the_small_wheel_at_60_rpm_eases_and_its_extension_repeats_the_run(figure_history):
+    """The 0.25 s windows from 2.0 s: sinkage 8.67, 8.49, 8.44, 8.38 mm (falling, slower), v rising
+    0.3099 -> 0.3129 m/s; the extension's windows before 2.5 s are the 2.5 s run's."""
+    label = FINE60 + ", to 3.0 s"
+    h = figure_history("small_wheel_60rpm_nonlocal_cells_3s.csv")
+    ts = h.windows(label, 2.0, 3.0)
+    assert len(ts) == 4
+    v, s = [h[label, t][0] for t in ts], [h[label, t][1] for t in ts]
+    assert v == sorted(v) and s == sorted(s, reverse=True)
+    assert (s[0], s[-1]) == (pytest.approx(8.67e-3, abs=0.02e-3), pytest.approx(8.38e-3, abs=0.02e-3))
+    before = figure_history("small_wheel_60rpm_nonlocal_cells.csv")
+    assert len(before.windows(FINE60)) == 10
+    for t in before.windows(FINE60):
+        assert h[label, t] == before[FINE60, t]
+
+
+def test_at_0p65_omega_0_the_small_wheel_slips_half_as_much_as_the_large_one():
+    """The large wheel at 42.4 RPM (linear between its settled 30 and 60 RPM runs): slip 0.117,
+    sinkage / r 0.187; the small wheel at 60 RPM: 0.061 and 0.159."""
+    large30 = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 2.75 s"]
+    large60 = _steady("wheel_60rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m"]
+    f = (60.0 / 2**0.5 - 30.0) / 30.0
+    slip_large = large30["slip"] + f * (large60["slip"] - large30["slip"])
+    s_large = (large30["sinkage"] + f * (large60["sinkage"] - large30["sinkage"])) / LARGE_R
+    small = _steady("small_wheel_60rpm_nonlocal_cells_3s_steady.csv")[FINE60 + ", to 3.0 s"]
+    assert slip_large == pytest.approx(0.117, abs=0.002) and s_large == pytest.approx(0.187, abs=0.002)
+    assert small["slip"] < 0.6 * slip_large
+    assert small["sinkage"] / SMALL_R < s_large - 0.02
+
+
 def test_the_small_box_check_met(figure_history):
     """The 0.45 m box at 2.5 mm against the 0.6 m box over 2.0-3.0 s: v 0.1125 against 0.1130 m/s
     (-0.4 %), sinkage 15.74 against 16.11 mm (-0.37 mm): within the registered 3 % and 1 mm."""
@@ -357,7 +410,7 @@ def test_the_small_wheel_at_1p25_mm_rides_where_the_large_wheel_did_at_2p5_mm():
 
 
 def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
-    """docs/figures/mpm_nonlocal_blind, mpm_nonlocal_blind_all and mpm_nonlocal_fine: the rows
+    """docs/figures/mpm_nonlocal_blind, mpm_nonlocal_blind_all, mpm_nonlocal_fine and _fine_all: the rows
     `intrusim calibrate --check` reads, as examples/steady_to_sweep.py writes them from the committed
     steady states."""
     mod = load_example("steady_to_sweep")
@@ -369,6 +422,8 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
          "mpm_nonlocal_blind_all", "grousered_wheel_mpm_sweep.csv", 2.5),
         (["small_wheel_30rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "small_grousered_wheel_mpm_sweep.csv", 2.5),
         (["small_wheel_30rpm_nonlocal_cells_steady.csv"], "mpm_nonlocal_fine", "small_grousered_wheel_mpm_sweep.csv", 1.25),
+        (["small_wheel_30rpm_nonlocal_cells_3p5s_steady.csv", "small_wheel_60rpm_nonlocal_cells_3s_steady.csv"],
+         "mpm_nonlocal_fine_all", "small_grousered_wheel_mpm_sweep.csv", 1.25),
     ):
         rows = mod.sweep_rows([FIG / f for f in steadies], f"{cells:g} mm", cells, 0.05)
         with (FIG / folder / sweep).open(newline="") as f:
