@@ -44,7 +44,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.optimize import brentq, minimize_scalar  # noqa: E402
 
-from intrusim.analysis.calibration import drft_steady_states, load_reference, with_mpm_push  # noqa: E402
+from intrusim.analysis.calibration import drft_steady_states, load_reference, with_mpm_push, with_parameters  # noqa: E402
 from intrusim.scenarios.base import ForceModelConfig  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario  # noqa: E402
 
@@ -74,8 +74,8 @@ class Drft:
     """xi-DRFT steady states of the Table S1 wheel with the MPM runs' forward push, cached by (omega, xi)."""
 
     def __init__(self, force_model: dict) -> None:
-        self.base = with_mpm_push(grousered_wheel_scenario())
-        self.force_model = dict(force_model)
+        wheel = with_mpm_push(grousered_wheel_scenario())
+        self.base = wheel.model_copy(update=dict(force_model=ForceModelConfig.model_validate(force_model)))
         self.cache: dict[tuple[float, float, float | None], tuple[float, float, float]] = {}
 
     def state(self, omega_rpm: float, xi: float, drop: float | None = None) -> tuple[float, float, float]:
@@ -83,9 +83,8 @@ class Drft:
         rear drop dh (m) in place of the calibration's free-surface law (psi = dh / r, constant)."""
         key = (float(omega_rpm), float(xi), drop)
         if key not in self.cache:
-            law = {} if drop is None else dict(psi_slope=0.0, psi_offset=float(drop) / self.base.radius)
-            fm = ForceModelConfig.model_validate(dict(self.force_model, xi=float(xi), **law))
-            rec = drft_steady_states(self.base.model_copy(update=dict(force_model=fm)), [omega_rpm]).records[0]
+            law = {} if drop is None else {"psi": 0.0, "psi_offset": float(drop) / self.base.radius}
+            rec = drft_steady_states(with_parameters(self.base, {"xi": xi, **law}), [omega_rpm]).records[0]
             self.cache[key] = (rec["velocity"], rec["sinkage"], rec["slip"]) if rec["ok"] else (math.nan,) * 3
         return self.cache[key]
 
@@ -129,6 +128,14 @@ def mpm_rows(path: Path, role: str) -> list[dict]:
              "surface_drop": r["surface_drop"], "role": role} for r in ref.records]  # fmt: skip
 
 
+def _row(model: str, c: float, xi_ref: float, xi: float, state: tuple[float, float, float], mpm: dict) -> dict:
+    """One model's steady state at one MPM run's omega, with its errors against that run."""
+    v, s, slip = state
+    return {"model": model, "c": c, "xi_ref": xi_ref, "omega_rpm": mpm["omega_rpm"], "xi": xi, "velocity": v,
+            "sinkage": s, "slip": slip, "mpm_velocity": mpm["velocity"], "mpm_sinkage": mpm["sinkage"],
+            "mpm_slip": mpm["slip"], "dv": v / mpm["velocity"] - 1.0, "ds": s / mpm["sinkage"] - 1.0, "role": mpm["role"]}  # fmt: skip
+
+
 def analyse(held: list[Path], calibration: Path, fit_csv: Path, check_csv: Path, omega_ref: float = 30.0) -> dict:
     """Everything the script writes, as plain data."""
     pairs = [held_pair(p) for p in held]
@@ -143,24 +150,16 @@ def analyse(held: list[Path], calibration: Path, fit_csv: Path, check_csv: Path,
         fits[name] = {"c": c, "xi_ref": xi_ref}
         for r in fit + check:
             xi = xi_at(xi_ref, c, r["omega_rpm"], omega_ref)
-            v, s, slip = model.state(r["omega_rpm"], xi)
-            rows.append({"model": name, "c": c, "xi_ref": xi_ref, "omega_rpm": r["omega_rpm"], "xi": xi, "velocity": v,
-                         "sinkage": s, "slip": slip, "mpm_velocity": r["velocity"], "mpm_sinkage": r["sinkage"],
-                         "mpm_slip": r["slip"], "dv": v / r["velocity"] - 1.0, "ds": s / r["sinkage"] - 1.0, "role": r["role"]})  # fmt: skip
+            rows.append(_row(name, c, xi_ref, xi, model.state(r["omega_rpm"], xi), r))
     xi_drop = fit_xi_ref(model, 0.0, fit, omega_ref, own_drop=True)
     fits["the MPM's own drop"] = {"c": 0.0, "xi_ref": xi_drop}
     for r in fit + check:
-        v, s, slip = model.state(r["omega_rpm"], xi_drop, r["surface_drop"])
-        rows.append({"model": "the MPM's own drop", "c": 0.0, "xi_ref": xi_drop, "omega_rpm": r["omega_rpm"], "xi": xi_drop,
-                     "velocity": v, "sinkage": s, "slip": slip, "mpm_velocity": r["velocity"], "mpm_sinkage": r["sinkage"],
-                     "mpm_slip": r["slip"], "dv": v / r["velocity"] - 1.0, "ds": s / r["sinkage"] - 1.0, "role": r["role"]})  # fmt: skip
+        rows.append(_row("the MPM's own drop", 0.0, xi_drop, xi_drop, model.state(r["omega_rpm"], xi_drop, r["surface_drop"]), r))
     xi0 = fits["xi-DRFT (c = 0)"]["xi_ref"]
     for r in check:
         xi = xi_for_sinkage(model, r["omega_rpm"], r["sinkage"])
-        v, s, slip = model.state(r["omega_rpm"], xi) if math.isfinite(xi) else (math.nan,) * 3
-        rows.append({"model": "xi for the MPM sinkage", "c": math.nan, "xi_ref": xi0, "omega_rpm": r["omega_rpm"], "xi": xi,
-                     "velocity": v, "sinkage": s, "slip": slip, "mpm_velocity": r["velocity"], "mpm_sinkage": r["sinkage"],
-                     "mpm_slip": r["slip"], "dv": v / r["velocity"] - 1.0, "ds": s / r["sinkage"] - 1.0, "role": "check"})  # fmt: skip
+        state = model.state(r["omega_rpm"], xi) if math.isfinite(xi) else (math.nan,) * 3
+        rows.append(_row("xi for the MPM sinkage", math.nan, xi0, xi, state, r))
     return {"pairs": pairs, "fits": fits, "rows": rows, "omega_ref": omega_ref}
 
 
