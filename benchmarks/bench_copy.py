@@ -4,7 +4,8 @@ The bound of `bench_mpm.py` divides the bytes a step must move by the copy bandw
 of memcpy and a Taichi copy kernel). This asks what that bound asks of Taichi itself: a kernel
 that only copies one f32 array into another (``b[i] = a[i]``, a field and an ndarray version),
 at a size that sits in the last-level cache and at one that does not, on each thread count,
-against ``np.copyto`` (memcpy, one thread) on the same arrays' sizes:
+against ``np.copyto`` (memcpy, one thread) on the same arrays' sizes (both copies are
+``bench_mpm.py``'s, the ones its bound uses):
 
     python benchmarks/bench_copy.py                       # threads 1 and all cores; 4 and 256 MiB
     python benchmarks/bench_copy.py --threads 2 --sizes 1,4,16,256
@@ -18,65 +19,20 @@ import json
 import os
 import subprocess
 import sys
-import time
 
-import numpy as np
-
-
-def memcpy_GBs(n_bytes: int, rounds: int) -> float:
-    """np.copyto of f32 arrays of ``n_bytes`` each, best of ``rounds`` (GB/s, read + write)."""
-    a = np.ones(n_bytes // 4, np.float32)
-    b = np.zeros_like(a)
-    np.copyto(b, a)
-    best = np.inf
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        np.copyto(b, a)
-        best = min(best, time.perf_counter() - t0)
-    return 2 * a.nbytes / best / 1e9
-
-
-def taichi_GBs(n_bytes: int, rounds: int) -> dict[str, float]:
-    """The copy kernel over a field and over an ndarray (GB/s, read + write); Taichi is initialised."""
-    import taichi as ti
-
-    n = n_bytes // 4
-    fa, fb = ti.field(ti.f32, n), ti.field(ti.f32, n)
-    na, nb = ti.ndarray(ti.f32, n), ti.ndarray(ti.f32, n)
-
-    @ti.kernel
-    def copy_field():
-        for i in fa:
-            fb[i] = fa[i]  # b_i = a_i
-
-    @ti.kernel
-    def copy_ndarray(a: ti.types.ndarray(), b: ti.types.ndarray()):
-        for i in range(a.shape[0]):
-            b[i] = a[i]  # b_i = a_i
-
-    out = {}
-    for name, run in (("field", copy_field), ("ndarray", lambda: copy_ndarray(na, nb))):
-        run()
-        ti.sync()
-        best = np.inf
-        for _ in range(rounds):
-            t0 = time.perf_counter()
-            run()
-            ti.sync()
-            best = min(best, time.perf_counter() - t0)
-        out[name] = 2 * n * 4 / best / 1e9
-    return out
+from bench_mpm import copy_bandwidth, numpy_copy_bandwidth  # this folder: the step benchmark's copies
 
 
 def measure(threads: int | None, sizes_mib: list[float], rounds: int) -> dict:
-    import taichi as ti
+    """GB/s of memcpy and of the Taichi copy kernel (field, ndarray) at each size, on ``threads``."""
+    from intrusim.mpm.backend import ensure_initialized
 
-    kwargs = {"cpu_max_num_threads": threads} if threads else {}
-    ti.init(arch=ti.cpu, log_level=ti.WARN, **kwargs)
+    ensure_initialized("cpu", "f32", threads)
     rows = []
     for mib in sizes_mib:
         n_bytes = int(mib * 2**20) // 4 * 4
-        rows.append({"mib": mib, "memcpy": memcpy_GBs(n_bytes, rounds), **taichi_GBs(n_bytes, rounds)})
+        rows.append({"mib": mib, "memcpy": numpy_copy_bandwidth(n_bytes, rounds) / 1e9,
+                     **{c: copy_bandwidth(n_bytes, rounds, c) / 1e9 for c in ("field", "ndarray")}})  # fmt: skip
     return {"threads": threads or os.cpu_count(), "rows": rows}
 
 
@@ -100,7 +56,8 @@ def main() -> None:
     print(f"{'threads':>7} {'MiB':>7} {'memcpy':>8} {'field':>8} {'ndarray':>8} {'memcpy / Taichi':>16}")
     for t in args.threads.split(","):
         cmd = [sys.executable, __file__, "--child", t, "--sizes", args.sizes, "--rounds", str(args.rounds)]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
+        env = {**os.environ, "INTRUSIM_TI_THREADS": ""}  # the thread count is the child's argument
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
         if proc.returncode != 0:
             sys.exit(f"benchmark child ({t} threads) failed:\n{proc.stderr[-3000:]}")
         res = json.loads(proc.stdout.strip().splitlines()[-1])

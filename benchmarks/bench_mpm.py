@@ -66,27 +66,41 @@ def numpy_copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
     return 2 * a.nbytes / best
 
 
-def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5) -> float:
-    """Copy bandwidth (bytes moved per second: read + write) of a Taichi kernel, best of ``rounds``."""
+def copy_bandwidth(n_bytes: int = 256 * 2**20, rounds: int = 5, container: str = "ndarray") -> float:
+    """Copy bandwidth (bytes moved per second: read + write) of a Taichi kernel, best of ``rounds``;
+    ``container``: the arrays are Taichi ndarrays (as the solver's) or fields."""
     import taichi as ti
 
     from intrusim.mpm.backend import info
 
+    if container not in ("ndarray", "field"):
+        raise ValueError(f"container must be 'ndarray' or 'field', got {container!r}")
     n = n_bytes // 4
-    a = ti.ndarray(info().real, shape=n)
-    b = ti.ndarray(info().real, shape=n)
+    if container == "ndarray":
+        a = ti.ndarray(info().real, shape=n)
+        b = ti.ndarray(info().real, shape=n)
 
-    @ti.kernel
-    def copy(src: ti.types.ndarray(), dst: ti.types.ndarray()):
-        for i in range(src.shape[0]):
-            dst[i] = src[i]
+        @ti.kernel
+        def copy_ndarray(src: ti.types.ndarray(), dst: ti.types.ndarray()):
+            for i in range(src.shape[0]):
+                dst[i] = src[i]
 
-    copy(a, b)
+        def copy():
+            copy_ndarray(a, b)
+    else:
+        fa, fb = ti.field(info().real, n), ti.field(info().real, n)
+
+        @ti.kernel
+        def copy():
+            for i in fa:
+                fb[i] = fa[i]
+
+    copy()
     _sync()
     best = np.inf
     for _ in range(rounds):
         t0 = time.perf_counter()
-        copy(a, b)
+        copy()
         _sync()
         best = min(best, time.perf_counter() - t0)
     return 2 * n * 4 / best
