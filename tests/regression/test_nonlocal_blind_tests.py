@@ -53,6 +53,18 @@ def _windows(figure_history, name: str, label: str, t0: float, t1: float, n: int
     return [h[label, t][0] for t in ts], [h[label, t][1] for t in ts]
 
 
+def _repeats(figure_history, name: str, label: str, before_name: str, before_label: str) -> int:
+    """An extended run (``label`` in ``name``) went on from the earlier run's end state: every 0.25 s
+    window of the earlier run (``before_label`` in ``before_name``) is in it to the last digit. Returns
+    how many windows the earlier run has (at least one)."""
+    h, before = figure_history(name), figure_history(before_name)
+    ts = before.windows(before_label)
+    assert ts
+    for t in ts:
+        assert h[label, t] == before[before_label, t]
+    return len(ts)
+
+
 @pytest.fixture(scope="module")
 def xi() -> float:
     return json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
@@ -327,9 +339,7 @@ def test_the_small_wheel_at_1p25_mm_settles_on_drft_from_3_s(small_drft, figure_
     assert abs(v / st["velocity"] - 1) < 0.05 and abs(s / st["sinkage"] - 1) < 0.05  # (c)
     assert v / st["velocity"] - 1 == pytest.approx(0.003, abs=0.003)
     assert s / st["sinkage"] - 1 == pytest.approx(0.013, abs=0.003)
-    before = figure_history("small_wheel_30rpm_nonlocal_cells.csv")
-    for t in before.windows(FINE):
-        assert h[label, t] == before[FINE, t]
+    _repeats(figure_history, "small_wheel_30rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_30rpm_nonlocal_cells.csv", FINE)
 
 
 FINE60 = "small wheel, 1.25 mm, 60 RPM, 0.45 m box"
@@ -365,10 +375,7 @@ def test_the_small_wheel_at_60_rpm_eases_and_its_extension_repeats_the_run(figur
     v, s = [h[label, t][0] for t in ts], [h[label, t][1] for t in ts]
     assert v == sorted(v) and s == sorted(s, reverse=True)
     assert (s[0], s[-1]) == (pytest.approx(8.67e-3, abs=0.02e-3), pytest.approx(8.38e-3, abs=0.02e-3))
-    before = figure_history("small_wheel_60rpm_nonlocal_cells.csv")
-    assert len(before.windows(FINE60)) == 10
-    for t in before.windows(FINE60):
-        assert h[label, t] == before[FINE60, t]
+    assert _repeats(figure_history, "small_wheel_60rpm_nonlocal_cells_3s.csv", label, "small_wheel_60rpm_nonlocal_cells.csv", FINE60) == 10
 
 
 def test_the_small_wheel_at_60_rpm_carried_on_to_3p5_s_stays_outside_15_percent(xi, figure_history):
@@ -379,9 +386,7 @@ def test_the_small_wheel_at_60_rpm_carried_on_to_3p5_s_stays_outside_15_percent(
     assert 8.2e-3 <= st["sinkage"] <= 8.4e-3 and 0.312 <= st["velocity"] <= 0.316
     v, s, _ = _drft(small_wheel_scenario(), xi, 60.0)
     assert 0.17 <= s / st["sinkage"] - 1 <= 0.20 and abs(v / st["velocity"] - 1) < 0.15
-    h, before = figure_history("small_wheel_60rpm_nonlocal_cells_3p5s.csv"), figure_history("small_wheel_60rpm_nonlocal_cells_3s.csv")
-    for t in before.windows(FINE60 + ", to 3.0 s"):
-        assert h[label, t] == before[FINE60 + ", to 3.0 s", t]
+    _repeats(figure_history, "small_wheel_60rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_60rpm_nonlocal_cells_3s.csv", FINE60 + ", to 3.0 s")
 
 
 def test_at_0p65_omega_0_the_small_wheel_slips_half_as_much_as_the_large_one():
