@@ -1,0 +1,49 @@
+"""Is it the grain size? The 1.25 mm small wheel at 60 RPM with 3 mm grains against 6 mm grains
+(docs/results.md, registered in b119ed1 before the run).
+
+Runs ``examples/grain_size_pair.py`` on the committed window CSVs. The registered reading, over
+1.5-2.0 s: the grain length explains the size effect if the 3 mm wheel slips >= 0.11 and sinks
+>= 9.9 mm; it does not if slip <= 0.095 and sinkage <= 9.6 mm; in between, in part.
+"""
+
+from pathlib import Path
+
+import pytest
+
+FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
+D6 = (FIG / "small_wheel_60rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s", 6e-3)
+LARGE = [(FIG / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s", 30.0),
+         (FIG / "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m", 60.0)]
+
+
+@pytest.fixture(scope="module")
+def script(load_example):
+    return load_example("grain_size_pair")
+
+
+def test_the_verdict_reads_the_registered_thresholds(script):
+    assert script.verdict({"slip": 0.11, "sinkage": 9.9e-3}) == "in full"
+    assert script.verdict({"slip": 0.20, "sinkage": 9.8e-3}) == "in part"  # slip alone is not enough
+    assert script.verdict({"slip": 0.095, "sinkage": 9.6e-3}) == "not at all"
+    assert script.verdict({"slip": 0.10, "sinkage": 9.0e-3}) == "in part"
+
+
+def test_the_6_mm_run_against_itself_changes_nothing_and_reads_not_at_all(script):
+    """The 6 mm run's window (v 0.3036 m/s, sinkage 9.23 mm, slip 0.088) is below the 'not at all'
+    thresholds: the test could have failed only through the 3 mm run."""
+    _, res = script.analyse([D6, D6], LARGE, 60.0, (1.5, 2.0))
+    first = res["runs"][0]
+    assert first["windows"] == 2 and abs(first["drift"]) < 0.05
+    assert first["velocity"] == pytest.approx(0.3036, abs=2e-4) and first["sinkage"] == pytest.approx(9.23e-3, abs=0.02e-3)
+    assert first["slip"] == pytest.approx(0.088, abs=0.001)
+    assert res["change"] == {"slip": 0.0, "sinkage": 0.0, "velocity": 0.0}
+    assert res["verdict"] == "not at all"
+    large = res["large_wheel"]
+    assert large["omega_rpm"] == pytest.approx(42.43, abs=0.01)
+    assert (large["slip"], large["sinkage_over_r"]) == (pytest.approx(0.117, abs=0.002), pytest.approx(0.187, abs=0.002))
+    assert large["grain_over_r"] == pytest.approx(0.057, abs=0.001) and first["grain_over_r"] == pytest.approx(0.113, abs=0.001)
+
+
+def test_a_window_past_the_run_is_refused(script):
+    with pytest.raises(SystemExit, match="no window inside"):
+        script.analyse([D6, D6], LARGE, 60.0, (3.5, 4.0))
