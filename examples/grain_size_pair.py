@@ -63,9 +63,9 @@ def window_mean(rows: list[dict], t0: float, t1: float) -> dict:
     inside = [r for r in rows if r["t_start"] >= t0 - 1e-6 and r["t_end"] <= t1 + 1e-6]
     if not inside:
         raise SystemExit(f"no window inside {t0}-{t1} s (the run ends at {rows[-1]['t_end']} s)")
-    halves = [r["velocity"] for r in inside]
-    return {"velocity": float(np.mean(halves)), "sinkage": float(np.mean([r["sinkage"] for r in inside])),
-            "windows": len(inside), "drift": (halves[-1] - halves[0]) / np.mean(halves)}
+    speeds = [r["velocity"] for r in inside]
+    return {"velocity": float(np.mean(speeds)), "sinkage": float(np.mean([r["sinkage"] for r in inside])),
+            "windows": len(inside), "drift": (speeds[-1] - speeds[0]) / np.mean(speeds)}
 
 
 def read_steady(path: Path, label: str) -> dict:
