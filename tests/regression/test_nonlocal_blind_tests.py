@@ -389,14 +389,14 @@ def test_the_small_wheel_at_60_rpm_carried_on_to_3p5_s_stays_outside_15_percent(
     _repeats(figure_history, "small_wheel_60rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_60rpm_nonlocal_cells_3s.csv", FINE60 + ", to 3.0 s")
 
 
-def test_at_0p65_omega_0_the_small_wheel_slips_half_as_much_as_the_large_one():
-    """The large wheel at 42.4 RPM (linear between its settled 30 and 60 RPM runs): slip 0.117,
-    sinkage / r 0.187; the small wheel at 60 RPM: 0.061 and 0.159."""
+def test_at_0p65_omega_0_the_small_wheel_slips_half_as_much_as_the_large_one(load_example):
+    """The large wheel at 42.4 RPM (linear between its settled 30 and 60 RPM runs, as
+    ``examples/grain_size_pair.py`` reads it): slip 0.117, sinkage / r 0.187; the small wheel at
+    60 RPM: 0.061 and 0.159."""
     large30 = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 2.75 s"]
     large60 = _steady("wheel_60rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m"]
-    f = (60.0 / 2**0.5 - 30.0) / 30.0
-    slip_large = large30["slip"] + f * (large60["slip"] - large30["slip"])
-    s_large = (large30["sinkage"] + f * (large60["sinkage"] - large30["sinkage"])) / LARGE_R
+    large = load_example("grain_size_pair").large_at([(30.0, large30), (60.0, large60)], 60.0 / 2**0.5, LARGE_R)
+    slip_large, s_large = large["slip"], large["sinkage_over_r"]
     small = _steady("small_wheel_60rpm_nonlocal_cells_3s_steady.csv")[FINE60 + ", to 3.0 s"]
     assert slip_large == pytest.approx(0.117, abs=0.002) and s_large == pytest.approx(0.187, abs=0.002)
     assert small["slip"] < 0.6 * slip_large
