@@ -11,12 +11,12 @@ two of its settled runs), and gives the verdict registered in docs/results.md (b
     python examples/grain_size_pair.py \\
         --run docs/figures/small_wheel_60rpm_nonlocal_cells_3p5s.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s" 6e-3 \\
         --run docs/figures/small_wheel_60rpm_nonlocal_d3mm.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, 3 mm grains" 3e-3 \\
-        --large docs/figures/wheel_30rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m from 2.75 s" 30 \\
-        --large docs/figures/wheel_60rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m" 60 \\
+        --large docs/figures/wheel_30rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m from 2.75 s" \\
+        --large docs/figures/wheel_60rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m" \\
         --omega 60 --window 1.5 2.0 --out docs/figures/grain_size_pair
 
 ``--run`` takes a run_histories.py window CSV, the run's label in it and its grain diameter (m);
-``--large`` a run_histories.py ``_steady.csv``, the row's label and its omega (RPM). Writes OUT.csv
+``--large`` a run_histories.py ``_steady.csv`` and the row's label (its omega is in the row). Writes OUT.csv
 (every 0.25 s window of each run: v, sinkage, slip, sinkage / r), OUT.json (the window means, the
 change from the first run to the second, the large wheel's state and the verdict) and OUT.png.
 """
@@ -69,11 +69,12 @@ def window_mean(rows: list[dict], t0: float, t1: float) -> dict:
 
 
 def read_steady(path: Path, label: str) -> dict:
-    """One row of a run_histories ``_steady.csv``."""
+    """One row of a run_histories ``_steady.csv``: v, sinkage, slip and omega (RPM)."""
     with path.open(newline="") as f:
         for r in csv.DictReader(f):
             if r["label"] == label:
-                return {k: float(v) for k, v in r.items() if k in ("velocity", "sinkage", "slip")}
+                row = {k: float(v) for k, v in r.items() if k in ("velocity", "sinkage", "slip")}
+                return {**row, "omega_rpm": float(r["omega"]) * 30.0 / math.pi}
     raise SystemExit(f"{path}: no row labelled {label!r}")
 
 
@@ -94,13 +95,14 @@ def verdict(state: dict) -> str:
     return "in part"
 
 
-def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, str, float]], omega_rpm: float,
+def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, str]], omega_rpm: float,
             window: tuple[float, float]) -> tuple[list[dict], dict]:
     """Every window of both small-wheel runs (CSV, label, d) and the comparison over ``window``
-    with the large wheel (steady CSV, label, RPM; two runs) at the same omega / omega_0."""
+    with the large wheel (steady CSV, label; two runs) at the same omega / omega_0."""
     r_small, r_large = small_wheel_scenario().radius, grousered_wheel_scenario().radius
     omega_large = omega_rpm * math.sqrt(r_small / r_large)  # the same omega / omega_0, omega_0 = sqrt(g / r)
-    large = large_at([(w, read_steady(p, lab)) for p, lab, w in large_runs], omega_large, r_large)
+    steady = [read_steady(p, lab) for p, lab in large_runs]
+    large = large_at([(st["omega_rpm"], st) for st in steady], omega_large, r_large)
     rows, means = [], []
     for path, label, d in runs:
         windows = read_windows(path, label)
@@ -124,7 +126,7 @@ def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, st
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--run", nargs=3, action="append", required=True, metavar=("CSV", "LABEL", "D"))
-    ap.add_argument("--large", nargs=3, action="append", required=True, metavar=("STEADY_CSV", "LABEL", "RPM"))
+    ap.add_argument("--large", nargs=2, action="append", required=True, metavar=("STEADY_CSV", "LABEL"))
     ap.add_argument("--omega", type=float, required=True, help="the small wheel's omega, RPM")
     ap.add_argument("--window", nargs=2, type=float, required=True, metavar=("T0", "T1"))
     ap.add_argument("--out", required=True)
@@ -133,7 +135,7 @@ def main() -> None:
         raise SystemExit("give two --run and two --large")
 
     rows, result = analyse([(Path(p), lab, float(d)) for p, lab, d in args.run],
-                           [(Path(p), lab, float(w)) for p, lab, w in args.large], args.omega, tuple(args.window))
+                           [(Path(p), lab) for p, lab in args.large], args.omega, tuple(args.window))
     runs, large, out = result["runs"], result["large_wheel"], Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     with out.with_suffix(".csv").open("w", newline="") as f:
