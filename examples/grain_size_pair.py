@@ -35,6 +35,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
 # registered in b119ed1, over 1.5-2.0 s: the grain length explains the size effect if slip >= 0.11
@@ -138,10 +139,7 @@ def main() -> None:
                            [(Path(p), lab) for p, lab in args.large], args.omega, tuple(args.window))
     runs, large, out = result["runs"], result["large_wheel"], Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    with out.with_suffix(".csv").open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(out.with_suffix(".csv"), rows)
     out.with_suffix(".json").write_text(json.dumps(result, indent=2) + "\n")
     plot(rows, runs, large, result["window"], out.with_suffix(".png"))
     for m in runs:

@@ -23,7 +23,6 @@ differences and the verdict) and OUT.png (slip and sinkage / r against t / sqrt(
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -37,6 +36,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from grain_size_pair import read_windows, slip, window_mean  # noqa: E402
 
+from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
 # registered in session 39 over the reference's 3.5-4.5 s: similar if |d slip| <= 0.03 and
@@ -125,10 +125,7 @@ def main() -> None:
     rows, result = analyse(ref, twin, tuple(args.window))
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    with out.with_suffix(".csv").open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(out.with_suffix(".csv"), rows)
     out.with_suffix(".json").write_text(json.dumps(result, indent=2) + "\n")
     plot(rows, result, (f"Table S1 wheel: {ref[1]}", f"half-size twin: {twin[1]}"), out.with_suffix(".png"))
     for name in ("reference", "twin"):
