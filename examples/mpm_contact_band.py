@@ -19,6 +19,9 @@ law with a chosen band.
         --push 0 --t-max 3.0 --out runs/push   # no forward push (Table S1's MPM runs: 4 N)
     python examples/mpm_contact_band.py wheel 30 --cell-mm 2.5 --band 0 --domain 1.0 0.4 --bed-depth 0.15 \
         --fluidity-diameter 6e-3 --t-max 3.0 --threads 2 --out runs/coupled_ngf   # nonlocal law, 6 mm grains, ~20 min
+    python examples/mpm_contact_band.py wheel 42.4264 --small --cell-mm 2.5 --band 0 --domain 0.5 0.2 \
+        --bed-depth 0.075 --fluidity-diameter 3e-3 --treadmill 0.325 0.25 --start-x 0.08 --youngs-modulus 5e5 \
+        --ramp-time 0.10606602 --chunk 0.035355339 --t-max 3.2 --threads 2 --out runs/twin_scaled  # a Froude twin
     python examples/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python examples/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
     python examples/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
@@ -82,6 +85,13 @@ def run(args: argparse.Namespace) -> None:
         except ValidationError as e:
             raise SystemExit(f"bad --fluidity-diameter: {e}") from None
         settings = settings.model_copy(update=dict(fluidity=fluidity))
+    scaled = {k: v for k, v in dict(start_x=args.start_x, youngs_modulus=args.youngs_modulus, ramp_time=args.ramp_time,
+                                     chunk=args.chunk).items() if v is not None}  # fmt: skip
+    if scaled:  # the set-up a Froude twin scales too: start, stiffness, spin-up, run-control interval
+        try:
+            settings = settings.validated_copy(**scaled)
+        except ValidationError as e:
+            raise SystemExit(f"bad setting: {e}") from None
     if args.treadmill is not None:  # a moving window: fresh bed comes in ahead, the rut leaves behind
         try:
             settings = settings.validated_copy(treadmill=tuple(args.treadmill))
@@ -94,6 +104,10 @@ def run(args: argparse.Namespace) -> None:
     tag += "" if args.push is None else f"_push{args.push:g}N"
     tag += "" if args.fluidity_diameter is None else f"_nonlocal{1e3 * args.fluidity_diameter:g}mm"
     tag += "" if args.treadmill is None else f"_treadmill{args.treadmill[0]:g}-{args.treadmill[1]:g}m"
+    tag += "" if args.start_x is None else f"_x{args.start_x:g}m"
+    tag += "" if args.youngs_modulus is None else f"_E{args.youngs_modulus:g}Pa"
+    tag += "" if args.ramp_time is None else f"_ramp{args.ramp_time:g}s"
+    tag += "" if args.chunk is None else f"_chunk{args.chunk:g}s"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -246,6 +260,12 @@ r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
 r.add_argument("--treadmill", type=float, nargs=2, metavar=("X_TRIGGER", "X_TARGET"), default=None,
                help="moving window: each time the wheel centre passes X_TRIGGER (m), the scene moves back to put it at "
                     "X_TARGET, the rut leaving on the left and fresh bed coming in on the right; the run lasts --t-max")
+r.add_argument("--start-x", type=float, default=None, metavar="M", help="initial x of the wheel centre, m (default 0.16)")
+r.add_argument("--youngs-modulus", type=float, default=None, metavar="PA",
+               help="the bed's numerical Young's modulus, Pa (default 1e6; sets dt = C h sqrt(rho_c / E))")
+r.add_argument("--ramp-time", type=float, default=None, metavar="S", help="linear spin-up of omega, s (default 0.15)")
+r.add_argument("--chunk", type=float, default=None, metavar="S",
+               help="run-control interval, s: progress lines, treadmill checks, snapshots (default 0.05)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
