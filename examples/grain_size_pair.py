@@ -24,7 +24,6 @@ change from the first run to the second, the large wheel's state and the verdict
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 from pathlib import Path
@@ -33,8 +32,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
+from intrusim._checks import InputError  # noqa: E402
+from intrusim.analysis.histories import read_steady, read_windows, slip, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
@@ -42,41 +42,6 @@ from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_s
 # and sinkage >= 9.9 mm; it does not if slip <= 0.095 and sinkage <= 9.6 mm; in between, in part
 IN_FULL = (0.11, 9.9e-3)
 NOT_AT_ALL = (0.095, 9.6e-3)
-
-
-def slip(velocity: float, omega_rpm: float, radius: float) -> float:
-    """slip = 1 - v / (r omega)."""
-    return 1.0 - velocity / (radius * omega_rpm * 2.0 * math.pi / 60.0)
-
-
-def read_windows(path: Path, label: str) -> list[dict]:
-    """The 0.25 s windows (t_start, t_end, velocity, sinkage) of run ``label`` in a run_histories CSV."""
-    with path.open(newline="") as f:
-        rows = [{k: float(r[k]) for k in ("t_start", "t_end", "velocity", "sinkage")}
-                for r in csv.DictReader(f) if r["label"] == label]  # fmt: skip
-    if not rows:
-        raise SystemExit(f"{path}: no run labelled {label!r}")
-    return rows
-
-
-def window_mean(rows: list[dict], t0: float, t1: float) -> dict:
-    """Means of v and sinkage over the windows inside [t0, t1] (equal lengths, so a plain mean)."""
-    inside = [r for r in rows if r["t_start"] >= t0 - 1e-6 and r["t_end"] <= t1 + 1e-6]
-    if not inside:
-        raise SystemExit(f"no window inside {t0}-{t1} s (the run ends at {rows[-1]['t_end']} s)")
-    speeds = [r["velocity"] for r in inside]
-    return {"velocity": float(np.mean(speeds)), "sinkage": float(np.mean([r["sinkage"] for r in inside])),
-            "windows": len(inside), "drift": (speeds[-1] - speeds[0]) / np.mean(speeds)}
-
-
-def read_steady(path: Path, label: str) -> dict:
-    """One row of a run_histories ``_steady.csv``: v, sinkage, slip and omega (RPM)."""
-    with path.open(newline="") as f:
-        for r in csv.DictReader(f):
-            if r["label"] == label:
-                row = {k: float(v) for k, v in r.items() if k in ("velocity", "sinkage", "slip")}
-                return {**row, "omega_rpm": float(r["omega"]) * 30.0 / math.pi}
-    raise SystemExit(f"{path}: no row labelled {label!r}")
 
 
 def large_at(points: list[tuple[float, dict]], omega_rpm: float, radius: float) -> dict:
@@ -135,8 +100,11 @@ def main() -> None:
     if len(args.run) != 2 or len(args.large) != 2:
         raise SystemExit("give two --run and two --large")
 
-    rows, result = analyse([(Path(p), lab, float(d)) for p, lab, d in args.run],
-                           [(Path(p), lab) for p, lab in args.large], args.omega, tuple(args.window))
+    try:
+        rows, result = analyse([(Path(p), lab, float(d)) for p, lab, d in args.run],
+                               [(Path(p), lab) for p, lab in args.large], args.omega, tuple(args.window))
+    except InputError as e:
+        raise SystemExit(str(e)) from None
     runs, large, out = result["runs"], result["large_wheel"], Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(out.with_suffix(".csv"), rows)

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 from pathlib import Path
 
 import matplotlib
@@ -33,9 +32,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from grain_size_pair import read_windows, slip, window_mean  # noqa: E402
-
+from intrusim._checks import InputError  # noqa: E402
+from intrusim.analysis.histories import read_windows, slip, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
@@ -122,7 +120,10 @@ def main() -> None:
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     ref, twin = ((Path(p), lab, float(w)) for p, lab, w in (args.reference, args.twin))
-    rows, result = analyse(ref, twin, tuple(args.window))
+    try:
+        rows, result = analyse(ref, twin, tuple(args.window))
+    except InputError as e:
+        raise SystemExit(str(e)) from None
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(out.with_suffix(".csv"), rows)

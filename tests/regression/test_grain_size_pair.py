@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from intrusim._checks import InputError
+
 FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
 D6 = (FIG / "small_wheel_60rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s", 6e-3)
 LARGE = [(FIG / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s"),
@@ -45,7 +47,7 @@ def test_the_6_mm_run_against_itself_changes_nothing_and_reads_not_at_all(script
 
 
 def test_a_window_past_the_run_is_refused(script):
-    with pytest.raises(SystemExit, match="no window inside"):
+    with pytest.raises(InputError, match="no window inside"):
         script.analyse([D6, D6], LARGE, 60.0, (3.5, 4.0))
 
 
