@@ -90,3 +90,25 @@ def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_
     assert twin[1]["twin"]["slip"] - tw["slip"] == pytest.approx(0.165, abs=0.002)
     assert twin[1]["twin"]["slip"] - tw["slip"] > 0.06
     assert d6["verdict"] == "not similar"
+
+
+SCALED = (FIG / "small_wheel_42rpm_twin_scaled.csv", "small wheel, 2.5 mm, 3 mm grains, half box, set-up scaled", 42.4264)
+SET_UP_MADE_IT = (0.01, 0.005)  # registered in session 40: |d slip|, |d sinkage / r| over 2.475-3.182 s
+
+
+def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(script):
+    """Outcome (session 40, registered before its run): with the start, E, spin-up and run-control
+    interval scaled too, over 2.475-3.182 s the twin slips 0.377 at sinkage / r 0.320 against 0.376
+    and 0.319 (within the registered 0.01 and 0.005: the set-up made the first twin's residual), and
+    every 0.3536 s window to the reference's 4.5 s agrees within 0.0015 in slip and sinkage / r."""
+    rows, res = script.analyse(REFERENCE, SCALED, (3.5, 4.5))
+    tw, d = res["twin"], res["difference"]
+    assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.377, abs=0.001), pytest.approx(0.320, abs=0.001))
+    assert abs(d["slip"]) <= SET_UP_MADE_IT[0] and abs(d["sinkage_over_r"]) <= SET_UP_MADE_IT[1]
+    assert abs(d["slip"]) < 0.002 and abs(d["sinkage_over_r"]) < 0.002
+    assert res["verdict"] == "similar"
+    upto = [r for r in rows if r["t_end"] <= 4.5 + 1e-6]
+    assert len(upto) == 9
+    assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in upto) < 0.0015
+    assert max(abs(r["sinkage_over_r_twin"] - r["sinkage_over_r_reference"]) for r in upto) < 0.0015
