@@ -112,3 +112,22 @@ def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(script):
     assert len(upto) == 9
     assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in upto) < 0.0015
     assert max(abs(r["sinkage_over_r_twin"] - r["sinkage_over_r_reference"]) for r in upto) < 0.0015
+
+
+def test_the_stiffness_alone_made_the_first_twins_residual(script):
+    """Outcome (session 40, registered before its run): the first twin with only E scaled (0.5 MPa)
+    slips 0.376 at sinkage / r 0.319 over 2.475-3.182 s: within the registered 0.01 and 0.005 of the
+    scaled twin (0.377, 0.320), not of the first twin (0.405, 0.335): the stiffness made it."""
+    _, scaled = script.analyse(REFERENCE, SCALED, (3.5, 4.5))
+    _, first = script.analyse(REFERENCE, TWIN, (3.5, 4.5))
+    rows, e_only = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled",
+                                              42.4264), (3.5, 4.5))  # fmt: skip
+    tw = e_only["twin"]
+    assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.376, abs=0.001), pytest.approx(0.319, abs=0.001))
+    assert abs(tw["slip"] - scaled["twin"]["slip"]) <= SET_UP_MADE_IT[0]
+    assert abs(tw["sinkage_over_r"] - scaled["twin"]["sinkage_over_r"]) <= SET_UP_MADE_IT[1]
+    assert first["twin"]["slip"] - tw["slip"] > 0.02 and first["twin"]["sinkage_over_r"] - tw["sinkage_over_r"] > 0.01
+    # the unscaled start and spin-up show in the first window only
+    assert rows[0]["slip_twin"] - rows[0]["slip_reference"] > 0.02
+    assert all(abs(r["slip_twin"] - r["slip_reference"]) < 0.005 for r in rows[2:9])
