@@ -131,3 +131,21 @@ def test_the_stiffness_alone_made_the_first_twins_residual(script):
     # the unscaled start and spin-up show in the first window only
     assert rows[0]["slip_twin"] - rows[0]["slip_reference"] > 0.02
     assert all(abs(r["slip_twin"] - r["slip_reference"]) < 0.005 for r in rows[2:9])
+
+
+def test_the_stiffness_not_the_time_step(script):
+    """Outcome (session 40, registered before its run): the E-only twin at the first twin's dt
+    (C = 0.2121) slips 0.371 at sinkage / r 0.316 over 2.475-3.182 s: within the registered 0.01
+    and 0.005 of the E-only twin (0.376, 0.319), 0.034 and 0.019 from the first twin (0.405, 0.335)."""
+    _, e_only = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled",
+                                           42.4264), (3.5, 4.5))  # fmt: skip
+    _, first = script.analyse(REFERENCE, TWIN, (3.5, 4.5))
+    _, same_dt = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E_dt.csv",
+                                            "small wheel, 2.5 mm, 3 mm grains, half box, E scaled, first twin's dt", 42.4264),
+                                (3.5, 4.5))  # fmt: skip
+    tw = same_dt["twin"]
+    assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.371, abs=0.001), pytest.approx(0.316, abs=0.001))
+    assert abs(tw["slip"] - e_only["twin"]["slip"]) <= SET_UP_MADE_IT[0]
+    assert abs(tw["sinkage_over_r"] - e_only["twin"]["sinkage_over_r"]) <= SET_UP_MADE_IT[1]
+    assert first["twin"]["slip"] - tw["slip"] > 0.03 and first["twin"]["sinkage_over_r"] - tw["sinkage_over_r"] > 0.015
