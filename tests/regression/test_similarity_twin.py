@@ -92,16 +92,30 @@ def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_
     assert d6["verdict"] == "not similar"
 
 
-SCALED = (FIG / "small_wheel_42rpm_twin_scaled.csv", "small wheel, 2.5 mm, 3 mm grains, half box, set-up scaled", 42.4264)
 SET_UP_MADE_IT = (0.01, 0.005)  # registered in session 40: |d slip|, |d sinkage / r| over 2.475-3.182 s
 
 
-def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(script):
+def _against_reference(script, name: str, label: str) -> tuple[list[dict], dict]:
+    """A half-size twin's committed windows (``name``, run ``label``) against the reference over 3.5-4.5 s."""
+    return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (3.5, 4.5))
+
+
+@pytest.fixture(scope="module")
+def scaled(script):
+    return _against_reference(script, "small_wheel_42rpm_twin_scaled.csv", "small wheel, 2.5 mm, 3 mm grains, half box, set-up scaled")
+
+
+@pytest.fixture(scope="module")
+def e_only(script):
+    return _against_reference(script, "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled")
+
+
+def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(scaled):
     """Outcome (session 40, registered before its run): with the start, E, spin-up and run-control
     interval scaled too, over 2.475-3.182 s the twin slips 0.377 at sinkage / r 0.320 against 0.376
     and 0.319 (within the registered 0.01 and 0.005: the set-up made the first twin's residual), and
     every 0.3536 s window to the reference's 4.5 s agrees within 0.0015 in slip and sinkage / r."""
-    rows, res = script.analyse(REFERENCE, SCALED, (3.5, 4.5))
+    rows, res = scaled
     tw, d = res["twin"], res["difference"]
     assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.377, abs=0.001), pytest.approx(0.320, abs=0.001))
@@ -114,38 +128,33 @@ def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(script):
     assert max(abs(r["sinkage_over_r_twin"] - r["sinkage_over_r_reference"]) for r in upto) < 0.0015
 
 
-def test_the_stiffness_alone_made_the_first_twins_residual(script):
+def _within(a: dict, b: dict, band: tuple[float, float]) -> bool:
+    return abs(a["slip"] - b["slip"]) <= band[0] and abs(a["sinkage_over_r"] - b["sinkage_over_r"]) <= band[1]
+
+
+def test_the_stiffness_alone_made_the_first_twins_residual(twin, scaled, e_only):
     """Outcome (session 40, registered before its run): the first twin with only E scaled (0.5 MPa)
     slips 0.376 at sinkage / r 0.319 over 2.475-3.182 s: within the registered 0.01 and 0.005 of the
     scaled twin (0.377, 0.320), not of the first twin (0.405, 0.335): the stiffness made it."""
-    _, scaled = script.analyse(REFERENCE, SCALED, (3.5, 4.5))
-    _, first = script.analyse(REFERENCE, TWIN, (3.5, 4.5))
-    rows, e_only = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled",
-                                              42.4264), (3.5, 4.5))  # fmt: skip
-    tw = e_only["twin"]
+    rows, res = e_only
+    tw, first = res["twin"], twin[1]["twin"]
     assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.376, abs=0.001), pytest.approx(0.319, abs=0.001))
-    assert abs(tw["slip"] - scaled["twin"]["slip"]) <= SET_UP_MADE_IT[0]
-    assert abs(tw["sinkage_over_r"] - scaled["twin"]["sinkage_over_r"]) <= SET_UP_MADE_IT[1]
-    assert first["twin"]["slip"] - tw["slip"] > 0.02 and first["twin"]["sinkage_over_r"] - tw["sinkage_over_r"] > 0.01
+    assert _within(tw, scaled[1]["twin"], SET_UP_MADE_IT)
+    assert first["slip"] - tw["slip"] > 0.02 and first["sinkage_over_r"] - tw["sinkage_over_r"] > 0.01
     # the unscaled start and spin-up show in the first window only
     assert rows[0]["slip_twin"] - rows[0]["slip_reference"] > 0.02
     assert all(abs(r["slip_twin"] - r["slip_reference"]) < 0.005 for r in rows[2:9])
 
 
-def test_the_stiffness_not_the_time_step(script):
+def test_the_stiffness_not_the_time_step(script, twin, e_only):
     """Outcome (session 40, registered before its run): the E-only twin at the first twin's dt
     (C = 0.2121) slips 0.371 at sinkage / r 0.316 over 2.475-3.182 s: within the registered 0.01
     and 0.005 of the E-only twin (0.376, 0.319), 0.034 and 0.019 from the first twin (0.405, 0.335)."""
-    _, e_only = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled",
-                                           42.4264), (3.5, 4.5))  # fmt: skip
-    _, first = script.analyse(REFERENCE, TWIN, (3.5, 4.5))
-    _, same_dt = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_E_dt.csv",
-                                            "small wheel, 2.5 mm, 3 mm grains, half box, E scaled, first twin's dt", 42.4264),
-                                (3.5, 4.5))  # fmt: skip
-    tw = same_dt["twin"]
+    _, res = _against_reference(script, "small_wheel_42rpm_twin_E_dt.csv",
+                                "small wheel, 2.5 mm, 3 mm grains, half box, E scaled, first twin's dt")
+    tw, first = res["twin"], twin[1]["twin"]
     assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.371, abs=0.001), pytest.approx(0.316, abs=0.001))
-    assert abs(tw["slip"] - e_only["twin"]["slip"]) <= SET_UP_MADE_IT[0]
-    assert abs(tw["sinkage_over_r"] - e_only["twin"]["sinkage_over_r"]) <= SET_UP_MADE_IT[1]
-    assert first["twin"]["slip"] - tw["slip"] > 0.03 and first["twin"]["sinkage_over_r"] - tw["sinkage_over_r"] > 0.015
+    assert _within(tw, e_only[1]["twin"], SET_UP_MADE_IT)
+    assert first["slip"] - tw["slip"] > 0.03 and first["sinkage_over_r"] - tw["sinkage_over_r"] > 0.015
