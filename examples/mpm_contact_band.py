@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> None:
         settings = settings.model_copy(update=dict(fluidity=fluidity))
     scaled = {k: v for k, v in dict(start_x=args.start_x, youngs_modulus=args.youngs_modulus, ramp_time=args.ramp_time,
                                      chunk=args.chunk, cfl=args.cfl).items() if v is not None}  # fmt: skip
-    if scaled:  # the set-up a Froude twin scales too: start, stiffness, spin-up, run-control interval
+    if scaled:  # the set-up a Froude twin scales too: start, stiffness, spin-up, run-control interval (and C)
         try:
             settings = settings.validated_copy(**scaled)
         except ValidationError as e:
