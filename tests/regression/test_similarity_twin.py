@@ -158,3 +158,18 @@ def test_the_stiffness_not_the_time_step(script, twin, e_only):
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.371, abs=0.001), pytest.approx(0.316, abs=0.001))
     assert _within(tw, e_only[1]["twin"], SET_UP_MADE_IT)
     assert first["slip"] - tw["slip"] > 0.03 and first["sinkage_over_r"] - tw["sinkage_over_r"] > 0.015
+
+
+def test_a_softer_bed_slips_more_too(script, e_only, twin):
+    """Outcome (session 40, registered before its run): at half the reference's E / (rho_c g r)
+    (E 0.25 MPa) the twin slips 0.399 at sinkage / r 0.335 over 2.475-3.182 s: above the registered
+    0.357 (not log-linear), so both halving and doubling the stiffness add slip (+0.022, +0.029),
+    and the soft twin is still easing over its last windows, like the first twin."""
+    rows, res = _against_reference(script, "small_wheel_42rpm_twin_E_soft.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")
+    tw = res["twin"]
+    assert tw["windows"] == 2
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.399, abs=0.001), pytest.approx(0.335, abs=0.001))
+    assert tw["slip"] > 0.357  # the registered "fades on the soft side" bound
+    assert tw["slip"] - e_only[1]["twin"]["slip"] > 0.015 and twin[1]["twin"]["slip"] - e_only[1]["twin"]["slip"] > 0.015
+    late = [r["slip_twin"] for r in rows if r["t_start"] >= 2.0 - 1e-6]
+    assert late[0] - late[-1] > 0.03  # still easing from 2.0 to 5.0 s (reference time)
