@@ -45,6 +45,11 @@ def test_a_twin_at_another_omega_over_omega_0_is_refused(script):
 TWIN = (FIG / "small_wheel_42rpm_twin.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 42.4264)
 
 
+def _against_reference(script, name: str, label: str) -> tuple[list[dict], dict]:
+    """A half-size twin's committed windows (``name``, run ``label``) against the reference over 3.5-4.5 s."""
+    return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (3.5, 4.5))
+
+
 @pytest.fixture(scope="module")
 def twin(script):
     return script.analyse(REFERENCE, TWIN, (3.5, 4.5))
@@ -82,8 +87,7 @@ def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_
     """Outcome (session 39, registered before its run): over 2.475-3.182 s the twin with 6 mm grains
     slips 0.240 at sinkage / r 0.247 (v 0.1789 m/s, 13.11 mm), 0.165 below the 3 mm twin's 0.405:
     more than the registered 0.06, so the grain length makes the size effect at 2.5 mm cells too."""
-    _, d6 = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_d6.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264),
-                           (3.5, 4.5))
+    _, d6 = _against_reference(script, "small_wheel_42rpm_twin_d6.csv", "small wheel, 2.5 mm, 6 mm grains, half box")
     tw = d6["twin"]
     assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.240, abs=0.001), pytest.approx(0.247, abs=0.001))
@@ -93,11 +97,6 @@ def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_
 
 
 SET_UP_MADE_IT = (0.01, 0.005)  # registered in session 40: |d slip|, |d sinkage / r| over 2.475-3.182 s
-
-
-def _against_reference(script, name: str, label: str) -> tuple[list[dict], dict]:
-    """A half-size twin's committed windows (``name``, run ``label``) against the reference over 3.5-4.5 s."""
-    return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (3.5, 4.5))
 
 
 @pytest.fixture(scope="module")
