@@ -18,6 +18,9 @@ and its omega (RPM); ``--twin`` the same for the small wheel (its CSV made with 
 reference's window times sqrt(r_small / r_large)). ``--window`` is in the reference's time. Writes
 OUT.csv (each pair of windows: both runs' slip and sinkage / r), OUT.json (the window means, the
 differences and the verdict) and OUT.png (slip and sinkage / r against t / sqrt(r / g)).
+``--similar`` and ``--not-similar`` take another registration's bands (slip, sinkage / r), as
+session 41's reading of the twins over the reference's 6.0-8.5 s: ``--similar 0.008 0.004
+--not-similar 0.015 0.008``.
 """
 
 from __future__ import annotations
@@ -43,11 +46,16 @@ SIMILAR = (0.03, 0.015)
 NOT_SIMILAR = (0.06, 0.03)
 
 
-def verdict(d_slip: float, d_sinkage_over_r: float) -> str:
-    """The registered reading of the twin's difference from the reference (slip, sinkage / r)."""
-    if abs(d_slip) <= SIMILAR[0] and abs(d_sinkage_over_r) <= SIMILAR[1]:
+def verdict(d_slip: float, d_sinkage_over_r: float, similar: tuple[float, float] = SIMILAR,
+            not_similar: tuple[float, float] = NOT_SIMILAR) -> str:
+    """The registered reading of the twin's difference from the reference (slip, sinkage / r):
+    "similar" inside both ``similar`` bands, "not similar" past either ``not_similar`` band."""
+    if not (0 < similar[0] <= not_similar[0] and 0 < similar[1] <= not_similar[1]):
+        raise InputError(f"the bands must be positive and the similar ones within the not-similar ones, got "
+                         f"similar {similar}, not similar {not_similar}")  # fmt: skip
+    if abs(d_slip) <= similar[0] and abs(d_sinkage_over_r) <= similar[1]:
         return "similar"
-    if abs(d_slip) > NOT_SIMILAR[0] or abs(d_sinkage_over_r) > NOT_SIMILAR[1]:
+    if abs(d_slip) > not_similar[0] or abs(d_sinkage_over_r) > not_similar[1]:
         return "not similar"
     return "in part"
 
@@ -65,9 +73,10 @@ def pair_windows(reference: list[dict], twin: list[dict], time_ratio: float) -> 
     return pairs
 
 
-def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float],
-            window: tuple[float, float]) -> tuple[list[dict], dict]:
-    """Every pair of windows and the comparison over ``window`` (the reference's time, s)."""
+def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], window: tuple[float, float],
+            similar: tuple[float, float] = SIMILAR, not_similar: tuple[float, float] = NOT_SIMILAR) -> tuple[list[dict], dict]:
+    """Every pair of windows and the comparison over ``window`` (the reference's time, s), read
+    with the registered bands (slip, sinkage / r; default: session 39's)."""
     big, small = grousered_wheel_scenario(), small_wheel_scenario()
     r_ref, r_twin, g = big.radius, small.radius, big.gravity
     (p_ref, lab_ref, w_ref), (p_twin, lab_twin, w_twin) = reference, twin
@@ -93,8 +102,8 @@ def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float],
     ref, tw = means["reference"], means["twin"]
     diff = {"slip": tw["slip"] - ref["slip"], "sinkage_over_r": tw["sinkage_over_r"] - ref["sinkage_over_r"]}
     return rows, {"window": list(window), "time_ratio": time_ratio, "time_scale": t_ref, **means, "difference": diff,
-                  "registered": {"similar": SIMILAR, "not_similar": NOT_SIMILAR},
-                  "verdict": verdict(diff["slip"], diff["sinkage_over_r"])}
+                  "registered": {"similar": list(similar), "not_similar": list(not_similar)},
+                  "verdict": verdict(diff["slip"], diff["sinkage_over_r"], similar, not_similar)}
 
 
 def plot(rows: list[dict], result: dict, labels: tuple[str, str], path: Path) -> None:
@@ -117,11 +126,15 @@ def main() -> None:
     ap.add_argument("--reference", nargs=3, required=True, metavar=("CSV", "LABEL", "RPM"))
     ap.add_argument("--twin", nargs=3, required=True, metavar=("CSV", "LABEL", "RPM"))
     ap.add_argument("--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s")
+    ap.add_argument("--similar", nargs=2, type=float, default=SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
+                    help="the registered bands within which the twin reads similar (default: session 39's 0.03 0.015)")
+    ap.add_argument("--not-similar", nargs=2, type=float, default=NOT_SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
+                    help="the registered bands past either of which it reads not similar (default: 0.06 0.03)")
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     ref, twin = ((Path(p), lab, float(w)) for p, lab, w in (args.reference, args.twin))
     try:
-        rows, result = analyse(ref, twin, tuple(args.window))
+        rows, result = analyse(ref, twin, tuple(args.window), tuple(args.similar), tuple(args.not_similar))
     except InputError as e:
         raise SystemExit(str(e)) from None
     out = Path(args.out)

@@ -28,6 +28,23 @@ def test_the_verdict_reads_the_registered_thresholds(script):
     assert script.verdict(0.05, 0.025) == "in part"
 
 
+def test_the_verdict_reads_other_registered_bands(script):
+    """Session 41's bands for the steady state (0.008 / 0.004 within, 0.015 / 0.008 past)."""
+    bands = dict(similar=(0.008, 0.004), not_similar=(0.015, 0.008))
+    assert script.verdict(0.008, -0.004, **bands) == "similar"
+    assert script.verdict(0.01, 0.0, **bands) == "in part"
+    assert script.verdict(0.0, 0.0081, **bands) == "not similar"
+    assert script.verdict(0.01, 0.0) == "similar"  # the same difference under session 39's bands
+
+
+@pytest.mark.parametrize("similar, not_similar", [((0.02, 0.01), (0.01, 0.02)), ((0.0, 0.01), (0.02, 0.02))])
+def test_bands_out_of_order_or_not_positive_are_refused(script, similar, not_similar):
+    from intrusim._checks import InputError
+
+    with pytest.raises(InputError, match="bands must be positive"):
+        script.verdict(0.0, 0.0, similar, not_similar)
+
+
 def test_windows_that_are_not_the_reference_scaled_are_refused(script):
     """The reference's own 0.5 s windows are not its 0.3536 s twin's: the script names the --every to use."""
     rows = script.read_windows(REFERENCE[0], REFERENCE[1])
