@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -26,10 +27,16 @@ from intrusim.analysis.steady import window_means  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
 
 
-def windows(run_dir: Path, every: float) -> list[dict]:
-    """Mean v (m/s) and sinkage (m) over consecutive windows [t, t + every) of one run."""
+def windows(run_dir: Path, every: float, whole_only: bool = False) -> list[dict]:
+    """Mean v (m/s) and sinkage (m) over consecutive windows [t, t + every) of one run; the last
+    one may be partial (it ends after the run's last record) unless ``whole_only``."""
     series = summarise_run(run_dir, t_start=0.0).series
-    return window_means(series["time"], {"velocity": series["vx"], "sinkage": series["sinkage"]}, every)
+    rows = window_means(series["time"], {"velocity": series["vx"], "sinkage": series["sinkage"]}, every,
+                        whole_only=whole_only)  # fmt: skip
+    if not whole_only and rows and rows[-1]["t_end"] > series["time"][-1] + every / 100:
+        print(f"{run_dir.name}: the last window, {rows[-1]['t_start']:g}-{rows[-1]['t_end']:g} s, is partial (the run "
+              f"ends at {series['time'][-1]:g} s); --whole-only leaves it out", file=sys.stderr)  # fmt: skip
+    return rows
 
 
 def main() -> None:
@@ -40,6 +47,8 @@ def main() -> None:
     ap.add_argument("--steady-from", type=float, action="append", default=None, metavar="T",
                     help="per run, in order: also write OUT_steady.csv with the run's steady state from T s on "
                          "(v, sinkage, slip, rear surface drop; summarise_run)")
+    ap.add_argument("--whole-only", action="store_true",
+                    help="only windows the run covers whole (default: the last one may be partial, with a warning)")
     ap.add_argument("--title", default="")
     ap.add_argument("--out", required=True, help="output stem: OUT.csv and OUT.png")
     args = ap.parse_args()
@@ -57,7 +66,7 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=["run", "label", "t_start", "t_end", "velocity", "sinkage"])
         w.writeheader()
         for run, label in zip(args.runs, labels):
-            rows = windows(run, args.every)
+            rows = windows(run, args.every, args.whole_only)
             for r in rows:
                 w.writerow({"run": run.name, "label": label, **r})
             mid = [0.5 * (r["t_start"] + r["t_end"]) for r in rows]
