@@ -114,7 +114,7 @@ def plot(rows: list[dict], result: dict, labels: tuple[str, str], path: Path) ->
         ax.plot(tau, [r[f"{key}_twin"] for r in rows], "s--", color="C3", label=labels[1])
         ax.axvspan(*(t / result["time_scale"] for t in result["window"]), color="0.9", zorder=0)
         ax.set(xlabel="t / sqrt(r / g)", ylabel=name)
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=8, loc="upper right")
     fig.suptitle(f"Half-size twin at the same omega / omega_0: {result['verdict']} (shaded: the registered window)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
