@@ -114,9 +114,10 @@ def plot(rows: list[dict], result: dict, labels: tuple[str, str], path: Path) ->
         ax.plot(tau, [r[f"{key}_twin"] for r in rows], "s--", color="C3", label=labels[1])
         ax.axvspan(*(t / result["time_scale"] for t in result["window"]), color="0.9", zorder=0)
         ax.set(xlabel="t / sqrt(r / g)", ylabel=name)
-    axes[0].legend(fontsize=8, loc="upper right")
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, fontsize=8, loc="lower center", ncol=2)  # below the axes: the labels are long
     fig.suptitle(f"Half-size twin at the same omega / omega_0: {result['verdict']} (shaded: the registered window)")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.07, 1.0, 1.0))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
