@@ -46,13 +46,18 @@ SIMILAR = (0.03, 0.015)
 NOT_SIMILAR = (0.06, 0.03)
 
 
+def check_bands(similar: tuple[float, float], not_similar: tuple[float, float]) -> None:
+    """Refuse bands (slip, sinkage / r) that are not positive or not nested."""
+    if not (0 < similar[0] <= not_similar[0] and 0 < similar[1] <= not_similar[1]):
+        raise InputError(f"the bands must be positive and the similar ones within the not-similar ones, got "
+                         f"similar {similar}, not similar {not_similar}")  # fmt: skip
+
+
 def verdict(d_slip: float, d_sinkage_over_r: float, similar: tuple[float, float] = SIMILAR,
             not_similar: tuple[float, float] = NOT_SIMILAR) -> str:
     """The registered reading of the twin's difference from the reference (slip, sinkage / r):
     "similar" inside both ``similar`` bands, "not similar" past either ``not_similar`` band."""
-    if not (0 < similar[0] <= not_similar[0] and 0 < similar[1] <= not_similar[1]):
-        raise InputError(f"the bands must be positive and the similar ones within the not-similar ones, got "
-                         f"similar {similar}, not similar {not_similar}")  # fmt: skip
+    check_bands(similar, not_similar)
     if abs(d_slip) <= similar[0] and abs(d_sinkage_over_r) <= similar[1]:
         return "similar"
     if abs(d_slip) > not_similar[0] or abs(d_sinkage_over_r) > not_similar[1]:
@@ -77,6 +82,7 @@ def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], w
             similar: tuple[float, float] = SIMILAR, not_similar: tuple[float, float] = NOT_SIMILAR) -> tuple[list[dict], dict]:
     """Every pair of windows and the comparison over ``window`` (the reference's time, s), read
     with the registered bands (slip, sinkage / r; default: session 39's)."""
+    check_bands(similar, not_similar)  # before any file is read
     big, small = grousered_wheel_scenario(), small_wheel_scenario()
     r_ref, r_twin, g = big.radius, small.radius, big.gravity
     (p_ref, lab_ref, w_ref), (p_twin, lab_twin, w_twin) = reference, twin

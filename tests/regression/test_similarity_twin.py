@@ -43,6 +43,8 @@ def test_bands_out_of_order_or_not_positive_are_refused(script, similar, not_sim
 
     with pytest.raises(InputError, match="bands must be positive"):
         script.verdict(0.0, 0.0, similar, not_similar)
+    with pytest.raises(InputError, match="bands must be positive"):  # before the CSVs are read
+        script.analyse(REFERENCE, (FIG / "missing.csv", "none", 42.4264), (3.5, 4.5), similar, not_similar)
 
 
 def test_windows_that_are_not_the_reference_scaled_are_refused(script):
