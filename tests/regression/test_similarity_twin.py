@@ -227,3 +227,21 @@ def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(script):
     assert res["verdict"] == "in part"
     gap = {round(r["t_start"], 3): r["slip_twin"] - r["slip_reference"] for r in rows}
     assert gap[3.5] > 0.03 and gap[5.5] > 0.008 and abs(gap[8.0]) < 0.003  # the transient closes
+
+
+def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effect(script):
+    """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E-scaled
+    twin slips 0.358 at sinkage / r 0.305 against 0.356 and 0.304 (within the registered 0.005 and
+    0.003: still a replica), and the E 1 MPa and E 0.25 MPa twins come within 0.0031 in slip and
+    0.0051 in sinkage / r of it: E / (rho_c g r) lengthened the transient, not the steady state."""
+    rows, res = _late(script, "small_wheel_42rpm_twin_E_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled")
+    tw, d = res["twin"], res["difference"]
+    assert tw["windows"] == 5 and rows[-1]["t_end"] == pytest.approx(8.5, abs=1e-6)
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.358, abs=0.001), pytest.approx(0.305, abs=0.001))
+    assert abs(d["slip"]) <= 0.005 and abs(d["sinkage_over_r"]) <= 0.003  # the registered replica band
+    late = [r for r in rows if r["t_start"] >= 4.5 - 1e-6]
+    assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in late) < 0.007
+    for name, label in (("small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box"),
+                        ("small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")):
+        other = _late(script, name, label)[1]["twin"]
+        assert abs(other["slip"] - tw["slip"]) <= 0.0035 and abs(other["sinkage_over_r"] - tw["sinkage_over_r"]) <= 0.0055
