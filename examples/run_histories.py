@@ -23,7 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from intrusim.analysis.steady import window_means  # noqa: E402
+from intrusim.analysis.steady import whole_windows, window_means  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
 
 
@@ -33,7 +33,7 @@ def windows(run_dir: Path, every: float, whole_only: bool = False) -> list[dict]
     series = summarise_run(run_dir, t_start=0.0).series
     rows = window_means(series["time"], {"velocity": series["vx"], "sinkage": series["sinkage"]}, every,
                         whole_only=whole_only)  # fmt: skip
-    if not whole_only and rows and rows[-1]["t_end"] > series["time"][-1] + every / 100:
+    if not whole_only and rows and rows[-1]["t_end"] > whole_windows(series["time"], every) * every + 1e-9:
         print(f"{run_dir.name}: the last window, {rows[-1]['t_start']:g}-{rows[-1]['t_end']:g} s, is partial (the run "
               f"ends at {series['time'][-1]:g} s); --whole-only leaves it out", file=sys.stderr)  # fmt: skip
     return rows

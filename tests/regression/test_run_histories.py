@@ -33,3 +33,11 @@ def test_whole_only_keeps_the_windows_the_run_covers(script, capsys):
 def test_windows_that_fit_exactly_give_no_warning(script, capsys):
     assert len(script.windows(Path("run"), 0.25)) == 4
     assert capsys.readouterr().err == ""
+
+
+def test_the_warning_and_whole_only_read_one_criterion(script, capsys):
+    """A last window that ends within one record interval (0.01 s) of the last record is whole for
+    both: no warning, and --whole-only keeps it (windows of 0.3345 s: the third ends at 1.0035 s)."""
+    rows = script.windows(Path("run"), 0.3345)
+    assert capsys.readouterr().err == ""
+    assert rows == script.windows(Path("run"), 0.3345, whole_only=True) and len(rows) == 3

@@ -107,6 +107,19 @@ def _lowest_height(px: np.ndarray, pz: np.ndarray, z: np.ndarray, s: np.ndarray,
     return out
 
 
+def whole_windows(time: Any, every: float, *, origin: float = 0.0) -> int:
+    """How many consecutive windows of ``every`` seconds from ``origin`` the series covers whole:
+    to within one record interval (the median spacing) of its last sample."""
+    t = np.asarray(time, float)
+    if not t.size:
+        return 0
+    gap = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    count = 0
+    while origin + (count + 1) * every <= t[-1] + gap:
+        count += 1
+    return count
+
+
 def window_means(
     time: Any, columns: dict[str, Any], every: float, *, origin: float = 0.0, right_closed: bool = False,
     whole_only: bool = False, tol: float = 1e-9,
@@ -133,10 +146,7 @@ def window_means(
     if not t.size:
         return []
     if whole_only:
-        gap = float(np.median(np.diff(t))) if t.size > 1 else 0.0
-        count = 0
-        while origin + (count + 1) * every <= t[-1] + gap:
-            count += 1
+        count = whole_windows(t, every, origin=origin)
     else:
         count = int(np.ceil((t[-1] - origin) / every))
     rows: list[dict[str, float]] = []
