@@ -201,11 +201,21 @@ def _late(script, name: str, label: str) -> tuple[list[dict], dict]:
     return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (6.0, 8.5), **STEADY_BANDS)
 
 
-def test_the_softer_bed_carried_to_6_s_comes_back_to_the_reference(script):
+@pytest.fixture(scope="module")
+def late_soft(script):
+    return _late(script, "small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")
+
+
+@pytest.fixture(scope="module")
+def late_first(script):
+    return _late(script, "small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box")
+
+
+def test_the_softer_bed_carried_to_6_s_comes_back_to_the_reference(late_soft):
     """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E 0.25 MPa
     twin slips 0.360 at sinkage / r 0.309 against 0.356 and 0.304: in part (slip within 0.008,
     sinkage / r 0.001 past 0.004); it falls faster than the reference and crosses it by 8.0-8.5 s."""
-    rows, res = _late(script, "small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")
+    rows, res = late_soft
     tw, d = res["twin"], res["difference"]
     assert tw["windows"] == 5 and rows[-1]["t_end"] == pytest.approx(8.5, abs=1e-6)  # no partial window
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.360, abs=0.001), pytest.approx(0.309, abs=0.001))
@@ -215,11 +225,11 @@ def test_the_softer_bed_carried_to_6_s_comes_back_to_the_reference(script):
     assert gap[2.0] > 0.025 and gap[5.5] > 0.02 and gap[8.0] < 0.0  # the transient, then the crossing
 
 
-def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(script):
+def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(late_first):
     """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E 1 MPa
     twin slips 0.361 at sinkage / r 0.310 against 0.356 and 0.304: in part (slip within 0.008,
     sinkage / r 0.001 past 0.004); its gap to the reference closes from +0.038 of slip at 3.5-4.0 s."""
-    rows, res = _late(script, "small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box")
+    rows, res = late_first
     tw, d = res["twin"], res["difference"]
     assert tw["windows"] == 5 and rows[-1]["t_end"] == pytest.approx(8.5, abs=1e-6)
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.361, abs=0.001), pytest.approx(0.310, abs=0.001))
@@ -229,7 +239,7 @@ def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(script):
     assert gap[3.5] > 0.03 and gap[5.5] > 0.008 and abs(gap[8.0]) < 0.003  # the transient closes
 
 
-def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effect(script):
+def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effect(script, late_first, late_soft):
     """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E-scaled
     twin slips 0.358 at sinkage / r 0.305 against 0.356 and 0.304 (within the registered 0.005 and
     0.003: still a replica), and the E 1 MPa and E 0.25 MPa twins come within 0.0031 in slip and
@@ -241,7 +251,5 @@ def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effec
     assert abs(d["slip"]) <= 0.005 and abs(d["sinkage_over_r"]) <= 0.003  # the registered replica band
     late = [r for r in rows if r["t_start"] >= 4.5 - 1e-6]
     assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in late) < 0.007
-    for name, label in (("small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box"),
-                        ("small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")):
-        other = _late(script, name, label)[1]["twin"]
+    for other in (late_first[1]["twin"], late_soft[1]["twin"]):
         assert abs(other["slip"] - tw["slip"]) <= 0.0035 and abs(other["sinkage_over_r"] - tw["sinkage_over_r"]) <= 0.0055
