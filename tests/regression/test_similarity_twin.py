@@ -253,3 +253,21 @@ def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effec
     assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in late) < 0.007
     for other in (late_first[1]["twin"], late_soft[1]["twin"]):
         assert abs(other["slip"] - tw["slip"]) <= 0.0035 and abs(other["sinkage_over_r"] - tw["sinkage_over_r"]) <= 0.0055
+
+
+def test_the_6_mm_twin_carried_to_6_s_holds_a_steady_grain_length_effect(script, late_first):
+    """Outcome (session 42, registered before the run): over the reference's 6.0-8.5 s the 6 mm
+    twin slips 0.248 at sinkage / r 0.246 against the 3 mm first twin's 0.361 and 0.310: 0.113 and
+    0.064 below, past the registered 0.06 and 0.03, so d / r is a steady size effect; the 6 mm
+    twin has held 0.235-0.261 over the reference's 3.5-8.5 s while the 3 mm twin eased."""
+    rows, res = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_d6_6s.csv",
+                                           "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264), (6.0, 8.5))
+    tw, first = res["twin"], late_first[1]["twin"]
+    assert tw["windows"] == 5 and rows[-1]["t_end"] == pytest.approx(8.5, abs=1e-6) and abs(tw["drift"]) < 0.05
+    assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.248, abs=0.001), pytest.approx(0.246, abs=0.001))
+    d_slip, d_sink = tw["slip"] - first["slip"], tw["sinkage_over_r"] - first["sinkage_over_r"]
+    assert (d_slip, d_sink) == (pytest.approx(-0.113, abs=0.002), pytest.approx(-0.064, abs=0.002))
+    assert script.verdict(d_slip, d_sink) == "not similar"  # the registered bands: 0.03 / 0.015, 0.06 / 0.03
+    held = [r["slip_twin"] for r in rows if r["t_start"] >= 3.5 - 1e-6]
+    assert len(held) == 10 and 0.23 < min(held) and max(held) < 0.265
+    assert res["difference"]["slip"] == pytest.approx(-0.108, abs=0.002)  # against the large wheel, same grains
