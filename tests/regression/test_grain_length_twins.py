@@ -1,0 +1,51 @@
+"""The MPM's steady state against the grain length d / r: the half-size twins at d = 3, 6 (and 12) mm
+over the reference's 6.0-8.5 s (docs/results.md, registered in sessions 41-42 before the runs).
+
+Runs ``examples/grain_length_twins.py`` on the committed window CSVs.
+"""
+
+import math
+from pathlib import Path
+
+import pytest
+
+FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
+D3 = (FIG / "small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 3e-3)
+D6 = (FIG / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 6e-3)
+REFERENCE = (FIG / "wheel_30rpm_nonlocal_treadmill.csv", "5 mm, treadmill in 1 m", 6e-3)
+
+
+@pytest.fixture(scope="module")
+def script(load_example):
+    return load_example("grain_length_twins")
+
+
+def test_the_window_is_the_twins_time_scaled_and_the_runs_sorted_by_d(script):
+    res = script.analyse([D6, D3], REFERENCE, (6.0, 8.5))
+    ratio = math.sqrt(0.053 / 0.106)
+    assert res["twin_window"] == pytest.approx([6.0 * ratio, 8.5 * ratio], rel=1e-3)
+    assert [r["d"] for r in res["runs"]] == [3e-3, 6e-3] and all(r["windows"] == 5 for r in res["runs"])
+    assert res["reference"]["windows"] == 5 and res["reference"]["d_over_r"] == pytest.approx(6e-3 / 0.106, rel=1e-3)
+
+
+def test_doubling_d_from_3_to_6_mm_takes_0p113_of_slip_and_0p064_of_sinkage_over_r(script):
+    """Session 42's outcome: 0.361 -> 0.248 in slip, 0.310 -> 0.246 in sinkage / r; one doubling."""
+    res = script.analyse([D3, D6], None, (6.0, 8.5))
+    (step,) = res["steps"]
+    assert step["slip_per_doubling"] == pytest.approx(-0.113, abs=0.002)
+    assert step["sinkage_over_r_per_doubling"] == pytest.approx(-0.064, abs=0.002)
+    assert "reference" not in res
+
+
+@pytest.mark.parametrize("runs, window, match", [
+    ([D3], (6.0, 8.5), "two or more runs"),
+    ([D3, D3], (6.0, 8.5), "two or more runs"),
+    ([D3, D6], (8.5, 6.0), "must end after"),
+    ([D3, (FIG / "no_such.csv", "x", 1e-3)], (6.0, 8.5), "no such file"),
+    ([D3, (D6[0], D6[1], -6e-3)], (6.0, 8.5), "grain diameter"),
+])  # fmt: skip
+def test_bad_input_is_refused_with_a_reason(script, runs, window, match):
+    from intrusim._checks import InputError
+
+    with pytest.raises(InputError, match=match):
+        script.analyse(runs, None, window)
