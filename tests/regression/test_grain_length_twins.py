@@ -49,3 +49,20 @@ def test_bad_input_is_refused_with_a_reason(script, runs, window, match):
 
     with pytest.raises(InputError, match=match):
         script.analyse(runs, None, window)
+
+
+D12 = (FIG / "small_wheel_42rpm_twin_d12_6s.csv", "small wheel, 2.5 mm, 12 mm grains, half box", 12e-3)
+
+
+def test_with_12_mm_grains_the_effect_goes_on_a_little_slower_per_doubling(script):
+    """Outcome (session 42, registered before the run): the 12 mm twin slips 0.162 at sinkage / r
+    0.209 over the reference's 6.0-8.5 s, 0.086 below the 6 mm twin (registered: goes on if more
+    than 0.03 below); per doubling of d the slip falls 0.113 then 0.086."""
+    res = script.analyse([D3, D6, D12], REFERENCE, (6.0, 8.5))
+    d12 = res["runs"][-1]
+    assert d12["windows"] == 5 and abs(d12["drift"]) < 0.02
+    assert (d12["slip"], d12["sinkage_over_r"]) == (pytest.approx(0.162, abs=0.001), pytest.approx(0.209, abs=0.001))
+    assert res["runs"][1]["slip"] - d12["slip"] > 0.03
+    first, second = (s["slip_per_doubling"] for s in res["steps"])
+    assert first == pytest.approx(-0.113, abs=0.002) and second == pytest.approx(-0.086, abs=0.002)
+    assert first < second < 0  # monotonic, the second doubling takes less
