@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from intrusim._checks import InputError, positive  # noqa: E402
-from intrusim.analysis.histories import read_windows, slip, window_mean  # noqa: E402
+from intrusim.analysis.histories import read_windows, wheel_state, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
@@ -42,9 +42,8 @@ TWIN_RPM, REFERENCE_RPM = 42.4264, 30.0  # the same omega / omega_0 (30 sqrt(2) 
 
 def state(path: Path, label: str, d: float, rpm: float, radius: float, window: tuple[float, float]) -> dict:
     """One run's window means over ``window`` (its own time, s): slip and sinkage / r at d / r."""
-    m = window_mean(read_windows(path, label), *window)
-    return {"label": label, "d": positive("grain diameter", d), "d_over_r": d / radius, "radius": radius,
-            "slip": slip(m["velocity"], rpm, radius), "sinkage_over_r": m["sinkage"] / radius, **m}  # fmt: skip
+    m = wheel_state(window_mean(read_windows(path, label), *window), rpm, radius)
+    return {"label": label, "d": positive("grain diameter", d), "d_over_r": d / radius, "radius": radius, **m}
 
 
 def analyse(runs: list[tuple[Path, str, float]], reference: tuple[Path, str, float] | None,

@@ -34,7 +34,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from intrusim._checks import InputError  # noqa: E402
-from intrusim.analysis.histories import read_steady, read_windows, slip, window_mean  # noqa: E402
+from intrusim.analysis.histories import read_steady, read_windows, wheel_state, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
@@ -73,12 +73,10 @@ def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, st
     for path, label, d in runs:
         windows = read_windows(path, label)
         for w in windows:
-            rows.append({"label": label, "grain_diameter": d, **w,
-                         "slip": slip(w["velocity"], omega_rpm, r_small), "sinkage_over_r": w["sinkage"] / r_small})
+            rows.append({"label": label, "grain_diameter": d, **wheel_state(w, omega_rpm, r_small)})
         m = window_mean(windows, *window)
-        m.update(label=label, grain_diameter=d, slip=slip(m["velocity"], omega_rpm, r_small),
-                 sinkage_over_r=m["sinkage"] / r_small, grain_over_r=d / r_small)
-        means.append(m)
+        m.update(label=label, grain_diameter=d)
+        means.append({**wheel_state(m, omega_rpm, r_small), "grain_over_r": d / r_small})
     first, second = means
     return rows, {
         "window": list(window), "omega_rpm": omega_rpm, "radius": r_small, "runs": means,

@@ -36,7 +36,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from intrusim._checks import InputError  # noqa: E402
-from intrusim.analysis.histories import read_windows, slip, window_mean  # noqa: E402
+from intrusim.analysis.histories import read_windows, slip, wheel_state, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
@@ -101,10 +101,8 @@ def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], w
         raise SystemExit(f"no pair of windows inside {window[0]}-{window[1]} s (the pairs end at {pairs[-1][0]['t_end']} s)")
     means = {}
     for name, runs, w, r in (("reference", [a for a, _ in inside], w_ref, r_ref), ("twin", [b for _, b in inside], w_twin, r_twin)):
-        m = window_mean(runs, runs[0]["t_start"], runs[-1]["t_end"])
-        m.update(slip=slip(m["velocity"], w, r), sinkage_over_r=m["sinkage"] / r, omega_rpm=w, radius=r,
-                 window=[runs[0]["t_start"], runs[-1]["t_end"]])
-        means[name] = m
+        m = wheel_state(window_mean(runs, runs[0]["t_start"], runs[-1]["t_end"]), w, r)
+        means[name] = {**m, "omega_rpm": w, "radius": r, "window": [runs[0]["t_start"], runs[-1]["t_end"]]}
     ref, tw = means["reference"], means["twin"]
     diff = {"slip": tw["slip"] - ref["slip"], "sinkage_over_r": tw["sinkage_over_r"] - ref["sinkage_over_r"]}
     return rows, {"window": list(window), "time_ratio": time_ratio, "time_scale": t_ref, **means, "difference": diff,

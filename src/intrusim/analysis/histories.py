@@ -23,6 +23,12 @@ def slip(velocity: float, omega_rpm: float, radius: float) -> float:
     return 1.0 - velocity / (positive("radius", radius) * positive("omega_rpm", omega_rpm) * 2.0 * math.pi / 60.0)
 
 
+def wheel_state(row: dict[str, float], omega_rpm: float, radius: float) -> dict[str, float]:
+    """``row`` (a window or a window mean: velocity, sinkage) with slip = 1 - v / (r omega) and
+    sinkage / r added, omega in RPM."""
+    return {**row, "slip": slip(row["velocity"], omega_rpm, radius), "sinkage_over_r": row["sinkage"] / radius}
+
+
 def _rows(path: Path) -> list[dict[str, str]]:
     try:
         with Path(path).open(newline="") as f:
