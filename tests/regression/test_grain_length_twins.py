@@ -66,3 +66,52 @@ def test_with_12_mm_grains_the_effect_goes_on_a_little_slower_per_doubling(scrip
     first, second = (s["slip_per_doubling"] for s in res["steps"])
     assert first == pytest.approx(-0.113, abs=0.002) and second == pytest.approx(-0.086, abs=0.002)
     assert first < second < 0  # monotonic, the second doubling takes less
+
+
+FINE_D6 = (FIG / "wheel_30rpm_nonlocal_treadmill.csv", "2.5 mm, treadmill in 1 m from 2.75 s", 6e-3)
+SMALL_PAIR = [
+    (FIG / "small_wheel_30rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 0.45 m box, to 3.5 s", 6e-3, 30.0, (3.0, 3.5)),
+    (FIG / "small_wheel_60rpm_nonlocal_cells_3s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.0 s", 6e-3, 60.0,
+     (2.5, 3.0)),
+]  # fmt: skip
+
+
+def test_the_resolved_grid_series_reads_the_large_wheel_and_interpolates_the_small_one(script):
+    """Session 43's registration: the 2.5 mm large wheel with 6 mm grains (slip 0.128, sinkage / r 0.192
+    over 4.5-6.0 s) and the 1.25 mm small wheel at 30 and 60 RPM (0.106 / 0.183 and 0.061 / 0.159)
+    interpolated linearly in omega to 42.43 RPM: 0.087 and 0.173."""
+    res = script.analyse([D3, D6], None, (6.0, 8.5), [FINE_D6], (4.5, 6.0), SMALL_PAIR)
+    (fine,) = res["fine"]
+    assert fine["windows"] == 3 and res["fine_steps"] == []
+    assert (fine["slip"], fine["sinkage_over_r"]) == (pytest.approx(0.128, abs=0.001), pytest.approx(0.192, abs=0.001))
+    si = res["small_interpolated"]
+    a, b = si["from"]
+    assert (a["slip"], b["slip"]) == (pytest.approx(0.106, abs=0.001), pytest.approx(0.061, abs=0.001))
+    f = (42.4264 - 30.0) / 30.0
+    assert si["slip"] == pytest.approx(a["slip"] + f * (b["slip"] - a["slip"]), rel=1e-12)
+    assert (si["slip"], si["sinkage_over_r"]) == (pytest.approx(0.087, abs=0.001), pytest.approx(0.173, abs=0.001))
+    assert si["d_over_r"] == pytest.approx(6e-3 / 0.053, rel=1e-3)
+
+
+@pytest.mark.parametrize("fine, fine_window, pair, match", [
+    ([FINE_D6], None, None, "their window"),
+    ([FINE_D6], (6.0, 4.5), None, "must end after"),
+    ([FINE_D6, FINE_D6], (4.5, 6.0), None, "its own grain diameter"),
+    (None, None, SMALL_PAIR[:1], "two small-wheel runs"),
+    (None, None, [SMALL_PAIR[0], SMALL_PAIR[0]], "two small-wheel runs"),
+    (None, None, [SMALL_PAIR[0], (*SMALL_PAIR[1][:2], 3e-3, *SMALL_PAIR[1][3:])], "same grain diameter"),
+])  # fmt: skip
+def test_bad_fine_grid_input_is_refused_with_a_reason(script, fine, fine_window, pair, match):
+    from intrusim._checks import InputError
+
+    with pytest.raises(InputError, match=match):
+        script.analyse([D3, D6], None, (6.0, 8.5), fine, fine_window, pair)
+
+
+def test_the_twins_omega_must_be_the_references_omega_over_omega0(script, monkeypatch):
+    script._check_twin_rpm(0.106, 0.053)
+    monkeypatch.setattr(script, "TWIN_RPM", 40.0)
+    from intrusim._checks import InputError
+
+    with pytest.raises(InputError, match="omega / omega_0"):
+        script.analyse([D3, D6], None, (6.0, 8.5))
