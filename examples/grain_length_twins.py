@@ -189,8 +189,8 @@ def main() -> None:
     if "small_interpolated" in result:
         si = result["small_interpolated"]
         print(f"{si['label']}: d / r {si['d_over_r']:.3f}, slip {si['slip']:.3f}, sinkage / r {si['sinkage_over_r']:.3f}")
-    for s in result["steps"] + result.get("fine_steps", []):
-        print(f"d {s['from_d'] * 1e3:g} -> {s['to_d'] * 1e3:g} mm: slip {s['slip_per_doubling']:+.3f}, "
+    for series, s in [("twins", s) for s in result["steps"]] + [("fine grid", s) for s in result.get("fine_steps", [])]:
+        print(f"{series}, d {s['from_d'] * 1e3:g} -> {s['to_d'] * 1e3:g} mm: slip {s['slip_per_doubling']:+.3f}, "
               f"sinkage / r {s['sinkage_over_r_per_doubling']:+.3f} per doubling of d")
 
 

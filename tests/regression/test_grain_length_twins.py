@@ -115,3 +115,25 @@ def test_the_twins_omega_must_be_the_references_omega_over_omega0(script, monkey
 
     with pytest.raises(InputError, match="omega / omega_0"):
         script.analyse([D3, D6], None, (6.0, 8.5))
+
+
+FINE_D12 = (FIG / "wheel_30rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, treadmill in 1 m", 12e-3)
+
+
+def test_on_the_resolved_grid_doubling_d_still_takes_slip_at_0p6x_the_coarse_grids_rate(script):
+    """Session 43's outcome (registered before the run): the 2.5 mm large wheel with 12 mm grains slips
+    0.061 at sinkage / r 0.163 over 4.5-6.0 s, 0.067 below the 6 mm wheel's 0.128 (registered: a steady
+    size effect if more than 0.025 below); the coarse twins' 6 -> 12 mm step was -0.086. Against the
+    interpolated 1.25 mm small wheel (registered within 0.02 in slip, 0.015 in sinkage / r): the
+    sinkage / r met (-0.010), the slip missed (-0.026)."""
+    res = script.analyse([D3, D6, D12], None, (6.0, 8.5), [FINE_D12, FINE_D6], (4.5, 6.0), SMALL_PAIR)
+    d6, d12 = res["fine"]
+    assert d12["windows"] == 3 and abs(d12["drift"]) < 0.01
+    assert (d12["slip"], d12["sinkage_over_r"]) == (pytest.approx(0.061, abs=0.001), pytest.approx(0.163, abs=0.001))
+    assert d6["slip"] - d12["slip"] > 0.025
+    (step,) = res["fine_steps"]
+    assert step["slip_per_doubling"] == pytest.approx(-0.067, abs=0.002)
+    assert res["steps"][1]["slip_per_doubling"] < step["slip_per_doubling"] < 0  # smaller on the finer grid
+    si = res["small_interpolated"]
+    assert abs(d12["sinkage_over_r"] - si["sinkage_over_r"]) < 0.015
+    assert abs(d12["slip"] - si["slip"]) > 0.02  # (b) missed in slip, as reported
