@@ -70,6 +70,12 @@ def per_doubling(rows: list[dict]) -> list[dict]:
             for a, b in zip(rows, rows[1:])]  # fmt: skip
 
 
+def state(path: Path, label: str, d: float, rpm: float, radius: float, window: tuple[float, float]) -> dict:
+    """One run's window means over ``window`` (its own time, s): slip and sinkage / r at d / r."""
+    m = wheel_state(window_mean(read_windows(path, label), *window), rpm, radius)
+    return {"label": label, "d": positive("grain diameter", d), "d_over_r": d / radius, "radius": radius, **m}
+
+
 def interpolated(pair: list[tuple[Path, str, float, float, tuple[float, float]]], rpm: float, radius: float) -> dict:
     """The small wheel's slip and sinkage / r at ``rpm``, linear in omega between two runs (CSV, label, d,
     their RPM, their own window) of the same grains."""
@@ -79,12 +85,6 @@ def interpolated(pair: list[tuple[Path, str, float, float, tuple[float, float]]]
     f = (rpm - a["rpm"]) / (b["rpm"] - a["rpm"])
     return {"label": f"{a['label']} / {b['label']}, at {rpm:g} RPM", "d": a["d"], "d_over_r": a["d_over_r"], "rpm": rpm,
             "from": [a, b], **{k: a[k] + f * (b[k] - a[k]) for k in ("slip", "sinkage_over_r")}}  # fmt: skip
-
-
-def state(path: Path, label: str, d: float, rpm: float, radius: float, window: tuple[float, float]) -> dict:
-    """One run's window means over ``window`` (its own time, s): slip and sinkage / r at d / r."""
-    m = wheel_state(window_mean(read_windows(path, label), *window), rpm, radius)
-    return {"label": label, "d": positive("grain diameter", d), "d_over_r": d / radius, "radius": radius, **m}
 
 
 def _ordered(window: tuple[float, float]) -> tuple[float, float]:

@@ -139,15 +139,12 @@ def test_on_the_resolved_grid_doubling_d_still_takes_slip_at_0p6x_the_coarse_gri
     assert abs(d12["slip"] - si["slip"]) > 0.02  # (b) missed in slip, as reported
 
 
-def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin():
+def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin(script):
     """Session 43's second outcome (registered): the 12 mm-grain large wheel at 42.43 RPM over 3.5-4.0 s
     against the 1.25 mm small wheel with 6 mm grains at 60 RPM over 2.5-3.0 s (the same omega / omega_0,
     d / r and h / r): within 0.015 in slip and 0.010 in sinkage / r."""
-    from intrusim.analysis.histories import read_windows, wheel_state, window_mean
-
-    big = wheel_state(window_mean(read_windows(FIG / "wheel_42rpm_nonlocal_d12.csv",
-                                               "2.5 mm, 12 mm grains, 42.43 RPM, treadmill in 1 m"), 3.5, 4.0),
-                      42.4264, 0.106)  # fmt: skip
-    small = wheel_state(window_mean(read_windows(*SMALL_PAIR[1][:2]), 2.5, 3.0), 60.0, 0.053)
+    big = script.state(FIG / "wheel_42rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 42.43 RPM, treadmill in 1 m", 12e-3,
+                       42.4264, 0.106, (3.5, 4.0))  # fmt: skip
+    small = script.state(*SMALL_PAIR[1][:3], 60.0, 0.053, (2.5, 3.0))
     assert (big["slip"], big["sinkage_over_r"]) == (pytest.approx(0.048, abs=0.001), pytest.approx(0.156, abs=0.001))
     assert abs(big["slip"] - small["slip"]) < 0.015 and abs(big["sinkage_over_r"] - small["sinkage_over_r"]) < 0.010
