@@ -16,7 +16,7 @@ SCENARIOS = ("wheel", "small-wheel", "runner")
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
           t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
-          treadmill: str | None = None):
+          treadmill: str | None = None, arch: str | None = None):
     from intrusim.mpm.config import FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
@@ -24,6 +24,12 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
     settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
+    if arch is not None:
+        from intrusim.mpm.backend import ARCHES
+
+        if arch not in ARCHES:
+            raise InputError(f"arch must be one of {', '.join(ARCHES)}, got {arch!r}")
+        settings = settings.model_copy(update=dict(arch=arch))
     if length is not None:  # same cells, a shorter or longer bed
         if not length > settings.start_x + settings.wall_margin:
             raise InputError(f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}")
@@ -91,10 +97,11 @@ def steady(
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
     treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
+    arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -139,6 +146,7 @@ def sweep(
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
     treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
+    arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -147,7 +155,7 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

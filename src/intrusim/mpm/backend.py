@@ -19,11 +19,19 @@ PRECISIONS = ("f32", "f64")
 
 @dataclass(frozen=True)
 class BackendInfo:
-    """What Taichi was initialised with."""
+    """What Taichi was initialised with: ``arch`` is the backend in use ("cpu", "cuda", "vulkan"
+    or "metal"), ``requested`` the one asked for (Taichi falls back to the CPU when the requested
+    GPU backend is missing)."""
 
     arch: str
     precision: str
     cpu_threads: int | None
+    requested: str = ""
+
+    @property
+    def fell_back(self) -> bool:
+        """True when a GPU was asked for and Taichi runs on the CPU instead."""
+        return self.requested not in ("", "cpu") and self.arch == "cpu"
 
     @property
     def real(self):
@@ -56,22 +64,25 @@ def ensure_initialized(
     Parameters
     ----------
     arch : {"cpu", "cuda", "vulkan", "metal", "gpu"}
-        Requested backend; "gpu" lets Taichi pick any available GPU (falls back to CPU).
+        Requested backend; "gpu" lets Taichi pick any available GPU. A missing GPU backend falls
+        back to the CPU with a RuntimeWarning (``BackendInfo.arch`` says what runs).
+        ``INTRUSIM_TI_ARCH`` overrides (e.g. to run the test suite on a GPU).
     precision : {"f32", "f64"}
         Floating-point type of particle and grid arrays. Force reductions are always f64.
     cpu_threads : int, optional
         Number of CPU threads (``None``: all cores; ``INTRUSIM_TI_THREADS`` overrides).
     """
     global _INFO
+    arch = os.environ.get("INTRUSIM_TI_ARCH") or arch
     if arch not in ARCHES:
-        raise ValueError(f"arch must be one of {ARCHES}, got {arch!r}")
+        raise ValueError(f"arch must be one of {ARCHES}, got {arch!r} (INTRUSIM_TI_ARCH or the caller's)")
     if precision not in PRECISIONS:
         raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
     env_threads = os.environ.get("INTRUSIM_TI_THREADS")
     if env_threads:
         cpu_threads = int(env_threads)
     if _INFO is not None:
-        if (arch, precision) != (_INFO.arch, _INFO.precision):
+        if (arch, precision) != (_INFO.requested, _INFO.precision) and (arch, precision) != (_INFO.arch, _INFO.precision):
             warnings.warn(
                 f"Taichi already initialised with arch={_INFO.arch}, precision={_INFO.precision}; "
                 f"ignoring request arch={arch}, precision={precision}",
@@ -87,10 +98,20 @@ def ensure_initialized(
     if cpu_threads is not None:
         kwargs["cpu_max_num_threads"] = int(cpu_threads)
     ti.init(**kwargs)
+    actual = arch_in_use()
+    if arch != "cpu" and actual == "cpu":  # Taichi's own message is a log line that is easy to miss
+        warnings.warn(f"arch={arch} was requested but Taichi found no such device: running on the CPU",
+                      RuntimeWarning, stacklevel=2)
     global SERIAL_LOOPS
-    SERIAL_LOOPS = arch == "cpu" and cpu_threads == 1
-    _INFO = BackendInfo(arch=arch, precision=precision, cpu_threads=cpu_threads)
+    SERIAL_LOOPS = actual == "cpu" and cpu_threads == 1
+    _INFO = BackendInfo(arch=actual, precision=precision, cpu_threads=cpu_threads, requested=arch)
     return _INFO
+
+
+def arch_in_use() -> str:
+    """The backend Taichi runs on ("cpu", "cuda", "vulkan", "metal", ...), read from Taichi itself."""
+    arch = ti.lang.impl.current_cfg().arch
+    return "cpu" if arch in (ti.x64, ti.arm64) else arch.name
 
 
 def info() -> BackendInfo:

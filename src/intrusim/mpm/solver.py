@@ -63,8 +63,8 @@ class Solver:
 
     def __init__(self, cfg: MPMConfig, particles: dict[str, np.ndarray] | None = None):
         self.cfg = cfg
-        ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
-        chunks = cfg.backend.p2g_chunks if cfg.backend.arch == "cpu" else 1
+        backend = ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
+        chunks = cfg.backend.p2g_chunks if backend.arch == "cpu" else 1  # a GPU: P2G by atomics
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks)
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
