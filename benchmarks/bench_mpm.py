@@ -6,7 +6,8 @@ with separation, walls) it prints, all measured in the same run:
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
 * the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
 * the same step with the kernels called one by one instead of as one compiled graph, and with
-  P2G by atomics into one grid copy,
+  P2G by atomic adds into one grid copy (a GPU's P2G), in 64-bit fixed point (reproducible, the
+  default) and in float (rounding in the threads' order),
 * a memory-bandwidth bound: the bytes one step must move at least (particle state read by P2G
   and G2P and written back by G2P, grid arrays written and read once) divided by the copy
   bandwidth of this machine (the fastest of a Taichi copy kernel on the same threads, Taichi's
@@ -128,7 +129,7 @@ RATE_LAWS = {  # --rate-laws: the options that are not the paper's law, against 
 
 
 def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True,
-               material: dict | None = None):
+               material: dict | None = None, deterministic_sums: bool = True):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
@@ -136,7 +137,8 @@ def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = No
         domain=DomainConfig(size=domain, cells=cells),
         material=material or {},
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
-        backend=dict(arch=arch, step_graph=step_graph, **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
+        backend=dict(arch=arch, step_graph=step_graph, deterministic_sums=deterministic_sums,
+                     **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
     )
     return Solver(cfg)
 
@@ -234,10 +236,14 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
         out["cases"][label] = row
         del solver
-        if arch == "cpu":  # the non-deterministic alternative: P2G with atomic adds into one grid (p2g_chunks = 1; a GPU's P2G)
+        if arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
             atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
             row["atomic_p2g_ms_per_step"] = time_steps(atomic) * 1e3
             del atomic
+        # float atomic adds (backend.deterministic_sums = False): not bit-reproducible
+        floats = bed_solver(domain, cells, bed, arch, p2g_chunks=1, deterministic_sums=False)
+        row["float_atomic_ms_per_step"] = time_steps(floats) * 1e3
+        del floats
         # the same step with one Python call per kernel instead of one compiled graph
         direct = bed_solver(domain, cells, bed, arch, step_graph=False)
         row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
@@ -329,8 +335,11 @@ def report(results: list[dict], arch: str) -> None:
     for r in results:
         for label, c in r["cases"].items():
             if "atomic_p2g_ms_per_step" in c:
-                print(f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, "
-                      f"not bit-reproducible) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} deterministic")
+                print(f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, 64-bit "
+                      f"fixed point) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} chunked")
+            if "float_atomic_ms_per_step" in c:
+                print(f"{r['threads']} threads, {label}: P2G with float atomics (deterministic_sums = false, not "
+                      f"bit-reproducible) {c['float_atomic_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} the default")
     for r in results:
         for label, c in r["cases"].items():
             print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "

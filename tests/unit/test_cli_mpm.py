@@ -221,3 +221,24 @@ def test_a_scenario_toml_runs_in_mpm_as_in_drft(tmp_path):
     assert r.exit_code == 2 and "not found" in r.output
     r = runner.invoke(app, ["mpm", "steady", "--scenario", "tractor", "--quick"])
     assert r.exit_code == 2 and "or a .toml file" in r.output
+
+
+def test_a_folder_written_before_a_setting_existed_goes_on_when_the_setting_is_its_default(tmp_path):
+    """A run folder from an earlier version lacks the settings added since (here
+    backend.deterministic_sums): it is read with their defaults, as loading it does, so the same
+    configuration goes on from its checkpoint; a non-default value of that setting is a difference."""
+    cfg = tmp_path / "tiny.toml"
+    cfg.write_text(TINY)
+    out = tmp_path / "run"
+    assert runner.invoke(app, ["mpm", "run", str(cfg), "--out", str(out)]).exit_code == 0
+    written = json.loads((out / "config.json").read_text())
+    del written["config"]["backend"]["deterministic_sums"]
+    (out / "config.json").write_text(json.dumps(written))
+    longer = tmp_path / "longer.toml"
+    longer.write_text(TINY.replace("t_end = 0.02", "t_end = 0.03"))
+    r = runner.invoke(app, ["mpm", "run", str(longer), "--out", str(out)])
+    assert r.exit_code == 0 and "continuing" in r.output, r.output
+    other = tmp_path / "other.toml"
+    other.write_text(TINY.replace("t_end = 0.02", "t_end = 0.04") + "[backend]\ndeterministic_sums = false\n")
+    r = runner.invoke(app, ["mpm", "run", str(other), "--out", str(out)])
+    assert r.exit_code == 2 and "differs in backend.deterministic_sums" in r.output, r.output

@@ -266,6 +266,14 @@ class BackendConfig(_Model):
         description="launch the kernels of a step as one compiled Taichi graph (arguments bound "
         "in C++: ~0.1 ms instead of ~0.7 ms of Python per step); False: one call per kernel",
     )
+    deterministic_sums: bool = Field(
+        True,
+        description="where several threads add into one target (a GPU's P2G, body impulses and "
+        "fluidity sources; the CPU's with p2g_chunks = 1): 64-bit fixed-point atomic adds, exact in "
+        "any order, so that a run and its restart give the same numbers bit for bit; False: float "
+        "atomic adds (their rounding follows the threads' order). Vulkan and Metal: float atomics "
+        "always (64-bit integer atomics are not portable). The CPU's chunked P2G sums in a fixed order either way",
+    )
 
 
 class MPMConfig(_Model):

@@ -7,6 +7,8 @@ by at most mu |dv_n| (Coulomb); separating nodes are left alone. The momentum re
 grains, summed over nodes and divided by dt, is the force on the body (and its moment about
 the body reference point). The reductions are accumulated in float64, once over all nodes and
 once over the nodes ahead of the reference point (x > x_body), so the force can be split front / rear.
+With fixed-point sums (a GPU: ``backend.deterministic_sums``) each step's node sums are 64-bit
+integers, exact in any order, added to the float64 totals by one serial kernel.
 """
 
 from dataclasses import dataclass
@@ -77,40 +79,65 @@ def polygon_signed_distance(p, verts: ti.template(), nv):
     return sd, n
 
 
+def _make_contact_kernel(fixed: bool):
+    @ti.kernel
+    def rigid_polygon_contact(
+        gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
+        h: float, pad: int, i0: int, i1: int, j0: int, j1: int,
+        bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
+        mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(), scale: float,
+    ):
+        """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
+
+        impulse[1] += the same from the nodes ahead of the reference point (x > x_body) only.
+        Fixed point (``fixed``): ``impulse`` holds this step's 64-bit integer sums of
+        round(value * ``scale``), exact in any order (``fold_impulse`` adds them to the totals);
+        otherwise float64 atomic adds into the totals.
+
+        ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
+        are outside the band and skip the distance computation.
+        """
+        c, s = ti.cos(theta), ti.sin(theta)
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for i, j in ti.ndrange((i0, i1), (j0, j1)):
+            node = ti.Vector([(i - pad) * h, (j - pad) * h])
+            r = node - ti.Vector([bx, bz])
+            if gm[i, j] > 0.0 and r.norm_sqr() < reach * reach:
+                local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])  # R(-theta) r
+                sd, n_loc = polygon_signed_distance(local, verts, nv)
+                if sd < band:
+                    n = ti.Vector([c * n_loc[0] - s * n_loc[1], s * n_loc[0] + c * n_loc[1]])
+                    vb = ti.Vector([bvx - omega * r[1], bvz + omega * r[0]])  # v_cm + omega x r
+                    v_old = gv[i, j]
+                    v_new = vb + coulomb_project(v_old - vb, n, mu)
+                    dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
+                    moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
+                    j_node = ti.Vector([-dp[0], -dp[1], moment])
+                    if ti.static(fixed):
+                        j_node = ti.round(j_node * ti.cast(scale, ti.f64))
+                        j_fixed = ti.cast(j_node, ti.i64)
+                        impulse[0] += j_fixed
+                        if r[0] > 0.0:  # ahead of the body's reference point
+                            impulse[1] += j_fixed
+                    else:
+                        impulse[0] += j_node
+                        if r[0] > 0.0:  # ahead of the body's reference point
+                            impulse[1] += j_node
+                    gv[i, j] = v_new
+
+    return rigid_polygon_contact
+
+
+_CONTACT_KERNELS = {fixed: _make_contact_kernel(fixed) for fixed in (False, True)}
+
+
 @ti.kernel
-def rigid_polygon_contact(
-    gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
-    h: float, pad: int, i0: int, i1: int, j0: int, j1: int,
-    bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
-    mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(),
-):
-    """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
-
-    impulse[1] += the same from the nodes ahead of the reference point (x > x_body) only.
-
-    ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
-    are outside the band and skip the distance computation.
-    """
-    c, s = ti.cos(theta), ti.sin(theta)
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for i, j in ti.ndrange((i0, i1), (j0, j1)):
-        node = ti.Vector([(i - pad) * h, (j - pad) * h])
-        r = node - ti.Vector([bx, bz])
-        if gm[i, j] > 0.0 and r.norm_sqr() < reach * reach:
-            local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])  # R(-theta) r
-            sd, n_loc = polygon_signed_distance(local, verts, nv)
-            if sd < band:
-                n = ti.Vector([c * n_loc[0] - s * n_loc[1], s * n_loc[0] + c * n_loc[1]])
-                vb = ti.Vector([bvx - omega * r[1], bvz + omega * r[0]])  # v_cm + omega x r
-                v_old = gv[i, j]
-                v_new = vb + coulomb_project(v_old - vb, n, mu)
-                dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
-                moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
-                j_node = ti.Vector([-dp[0], -dp[1], moment])
-                impulse[0] += j_node
-                if r[0] > 0.0:  # ahead of the body's reference point
-                    impulse[1] += j_node
-                gv[i, j] = v_new
+def fold_impulse(step_sums: ti.types.ndarray(), impulse: ti.types.ndarray(), inv_scale: float):
+    """impulse[q] += step_sums[q] / scale ; step_sums[q] = 0 (a step's exact fixed-point sums into
+    the float64 totals, in a fixed order)."""
+    for q in range(step_sums.shape[0]):
+        impulse[q] += ti.cast(step_sums[q], ti.f64) * ti.cast(inv_scale, ti.f64)
+        step_sums[q] = ti.Vector([0, 0, 0], ti.i64)
 
 
 @dataclass
@@ -135,7 +162,7 @@ class PolygonContact:
     band : contact band, m (nodes with signed distance < band are projected).
     """
 
-    def __init__(self, vertices: np.ndarray, mu: float, band: float):
+    def __init__(self, vertices: np.ndarray, mu: float, band: float, fixed_scale: float | None = None):
         from .backend import info
 
         verts = np.asarray(vertices, dtype=float)
@@ -153,16 +180,29 @@ class PolygonContact:
         # cumulative (Fx, Fz, My) dt on the body [0], and from the nodes ahead of it [1]
         # (3-vectors: one read back in ~6 us, to_numpy ~100 us; each step reads [0] only)
         self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
+        # fixed_scale: each step's node sums in 64-bit fixed point (exact in any order; a GPU), then
+        # added to ``impulse`` by one serial kernel, so that runs do not depend on the threads' order
+        self.fixed_scale = None if fixed_scale is None else float(fixed_scale)
+        self.step_sums = None
+        if self.fixed_scale is not None:
+            self.step_sums = ti.Vector.ndarray(3, ti.i64, shape=2)
+            self.step_sums.fill(0)
 
     POSE_VARS = ("i0", "i1", "j0", "j1", "x", "z", "theta", "vx", "vz", "omega")
 
-    def launch(self, grid: "Grid", dt: float, prefix: str) -> Launch:
-        """The contact kernel's launch; the node box and the pose are ``Var`` named ``prefix + name``."""
+    def launches(self, grid: "Grid", dt: float, prefix: str) -> list[Launch]:
+        """The contact kernel's launch (and, in fixed point, the fold of its sums into the totals);
+        the node box and the pose are ``Var`` named ``prefix + name``."""
         box_pose = [Var(prefix + name) for name in self.POSE_VARS]
-        return Launch(rigid_polygon_contact, (
+        fixed = self.fixed_scale is not None
+        contact = Launch(_CONTACT_KERNELS[fixed], (
             grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, *box_pose,
-            self.mu, self.band, self.radius + self.band, dt, self.impulse,
+            self.mu, self.band, self.radius + self.band, dt, self.step_sums if fixed else self.impulse,
+            self.fixed_scale if fixed else 1.0,
         ))
+        if not fixed:
+            return [contact]
+        return [contact, Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale))]
 
     def launch_values(self, grid: "Grid", pose: BodyPose, prefix: str) -> dict[str, float | int]:
         """This step's ``Var`` values of :meth:`launch`: the node box around the body and its pose.
@@ -191,3 +231,5 @@ class PolygonContact:
         total = np.asarray(impulse, np.float64).reshape(3)
         part = np.zeros(3) if ahead is None else np.asarray(ahead, np.float64).reshape(3)
         self.impulse.from_numpy(np.stack([total, part]))
+        if self.step_sums is not None:
+            self.step_sums.fill(0)

@@ -33,7 +33,7 @@ import taichi as ti
 
 from . import backend
 from .grid import copy_record, union_box
-from .transfer import CHUNK_SPREAD, quadratic_weights
+from .transfer import ATOMIC, CHUNK_SPREAD, FIXED, PLAIN, quadratic_weights, scatter_add
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -67,46 +67,48 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 
 @ti.func
 def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
-                    parts: ti.template(), nx, ny, h, pad, prm, atomic: ti.template()):
+                    parts: ti.template(), nx, ny, h, pad, prm, mode: ti.template(), scale):
     """Point p's sources into copy c of ``parts`` (flat records, ``grid.copy_record``: the stencil's
-    first node addressed once, the other 8 at fixed offsets), with atomic adds or plain
-    read-modify-write (one loop iteration owns copy c). Returns the stencil's base node."""
+    first node addressed once, the other 8 at fixed offsets), by ``transfer.scatter_add`` (PLAIN: one
+    loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
     first = copy_record(c, base[0], base[1], nx, ny)
     for a, e in ti.static(ti.ndrange(3, 3)):
         k = first + (a * ny + e) * 3
         dv = w[a][0] * w[e][1] * val
         for r in ti.static(range(3)):
-            if ti.static(atomic):
-                ti.atomic_add(parts[k + r], dv[r])
-            else:
-                parts[k + r] = parts[k + r] + dv[r]
+            scatter_add(parts, k + r, dv[r], mode, scale)
     return base
 
 
 @ti.func
-def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny):
-    """src[i, j] = the sum of node (i, j)'s records over the copies, in order; the records are zeroed."""
+def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny, inv_scale):
+    """src[i, j] = the sum of node (i, j)'s records over the copies, in order (fixed-point records
+    times ``inv_scale``, else 1); the records are zeroed."""
     total = ti.Vector([0.0, 0.0, 0.0])
     for c in range(nc):
-        k = copy_record(c, i, j, nx, ny)
-        total += ti.Vector([parts[k], parts[k + 1], parts[k + 2]])
-        parts[k], parts[k + 1], parts[k + 2] = 0.0, 0.0, 0.0
+        k = copy_record(c, i, j, nx, ny)  # float: the backend's real type (a no-op on real copies)
+        total += ti.Vector([ti.cast(parts[k], float), ti.cast(parts[k + 1], float), ti.cast(parts[k + 2], float)]) * inv_scale
+        parts[k], parts[k + 1], parts[k + 2] = 0, 0, 0
     src[i, j] = total
 
 
-def fluidity_sources_kernel(chunked: bool):
+def fluidity_sources_kernel(chunked: bool, fixed: bool = False):
     """The sources' kernel, chunked (CPU: private copies, deterministic) or atomic (GPU: one copy,
-    atomic adds, the box is the whole grid), as ``transfer.p2g_kernel``."""
-    return _SOURCE_KERNELS[bool(chunked)]
+    atomic adds, float or 64-bit fixed point, the box is the whole grid), as ``transfer.p2g_kernel``."""
+    if chunked and fixed:
+        raise ValueError("chunked sources sum in a fixed order already: no fixed point")
+    return _SOURCE_KERNELS[PLAIN if chunked else FIXED if fixed else ATOMIC]
 
 
-def _make_sources_kernel(chunked: bool):
+def _make_sources_kernel(mode: int):
+    chunked = mode == PLAIN
+
     @ti.kernel
     def fluidity_sources(
         x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
         parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
-        h: float, pad: int, prm: ti.types.vector(4, float),
+        h: float, pad: int, prm: ti.types.vector(4, float), scale: float,
     ):
         """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1); ``prm`` = (mu_s, b, d, rho_s).
 
@@ -129,13 +131,13 @@ def _make_sources_kernel(chunked: bool):
                     lo = ti.Vector([nx, ny])
                     hi = ti.Vector([0, 0])
                     for p in range(c * n // nc, (c + 1) * n // nc):
-                        base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, False)
+                        base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, PLAIN, scale)
                         lo, hi = ti.min(lo, base), ti.max(hi, base + 3)
                     box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
         else:
             box_parts[0, 0], box_parts[0, 1], box_parts[0, 2], box_parts[0, 3] = 0, nx, 0, ny
             for p in range(n):
-                _scatter_source(p, 0, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, True)
+                _scatter_source(p, 0, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, mode, scale)
         b0, b1, b2, b3 = union_box(box_parts, nx, ny)
         u0, u1, u2, u3 = ti.min(box[0], b0), ti.max(box[1], b1), ti.min(box[2], b2), ti.max(box[3], b3)
         box[0], box[1], box[2], box[3] = b0, b1, b2, b3
@@ -144,16 +146,16 @@ def _make_sources_kernel(chunked: bool):
             ti.loop_config(serialize=backend.SERIAL_LOOPS, block_dim=ROW_GRAIN)
             for i in range(u0, u1):  # parallel over rows, serial along each (no integer division per node)
                 for j in range(u2, u3):
-                    _sum_copies(parts, src, i, j, nc, nx, ny)
+                    _sum_copies(parts, src, i, j, nc, nx, ny, 1.0 / scale)
         else:
             nj = ti.max(u3 - u2, 0)
             for q in range(ti.max(u1 - u0, 0) * nj):  # one thread per node
-                _sum_copies(parts, src, u0 + q // nj, u2 + q % nj, nc, nx, ny)
+                _sum_copies(parts, src, u0 + q // nj, u2 + q % nj, nc, nx, ny, 1.0 / scale)
 
     return fluidity_sources
 
 
-_SOURCE_KERNELS = {flag: _make_sources_kernel(flag) for flag in (False, True)}
+_SOURCE_KERNELS = {mode: _make_sources_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
 
 
 @ti.func
@@ -269,14 +271,18 @@ class FluidityField:
     """The grid arrays of the nonlocal fluidity: the sources' chunk copies (flat) and sum (nx, ny, 3), the
     field g and its nonlocal excess g - g_loc, 1/s, and the node boxes of ``fluidity_sources``."""
 
-    def __init__(self, shape, chunked: bool = True):
+    def __init__(self, shape, chunked: bool = True, fixed_scale: float | None = None):
         real = backend.info().real
         self.shape = tuple(shape)
         self.chunked = bool(chunked)
+        if self.chunked and fixed_scale is not None:
+            raise ValueError("chunked sources sum in a fixed order already: no fixed point")
+        self.fixed_scale = None if fixed_scale is None else float(fixed_scale)  # one copy of 64-bit integers
         copies = SOURCE_CHUNKS if self.chunked else 1  # private copies (CPU) or one with atomic adds (GPU)
         # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy, as Grid.mp_parts (grid.copy_record)
-        self.parts = ti.ndarray(real, shape=copies * self.shape[0] * self.shape[1] * 3)
-        self.parts.fill(0.0)  # the sources' kernel leaves them zeroed after each step
+        dtype = real if self.fixed_scale is None else ti.i64
+        self.parts = ti.ndarray(dtype, shape=copies * self.shape[0] * self.shape[1] * 3)
+        self.parts.fill(0)  # the sources' kernel leaves them zeroed after each step
         self.box_parts = ti.ndarray(ti.i32, shape=(copies, 4))
         self.box = ti.ndarray(ti.i32, shape=8)
         self.src = ti.Vector.ndarray(3, real, shape=shape)

@@ -17,7 +17,8 @@ PAD = 3  # cells of padding around the domain, enough for the quadratic stencil 
 class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
-    def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1):
+    def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1,
+                 fixed_scale: float | None = None):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
@@ -30,7 +31,14 @@ class Grid:
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
         # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, all
         # copies in one flat array (see copy_record)
-        self.mp_parts = ti.ndarray(real, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
+        # fixed_scale (one copy, atomic adds): the records are 64-bit integers, value * fixed_scale,
+        # so that atomic sums are exact and do not depend on their order (see fixed_point_scale)
+        self.fixed_scale = None if fixed_scale is None else float(fixed_scale)
+        if self.fixed_scale is not None and self.chunks != 1:
+            raise ValueError("fixed-point P2G sums use one grid copy (chunks = 1)")
+        self.inv_scale = 1.0 if self.fixed_scale is None else 1.0 / self.fixed_scale
+        dtype = real if self.fixed_scale is None else ti.i64
+        self.mp_parts = ti.ndarray(dtype, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
@@ -53,6 +61,21 @@ class Grid:
         j0 = max(int(np.floor((cz - radius) / self.h)) + self.pad, 0)
         j1 = min(int(np.ceil((cz + radius) / self.h)) + self.pad + 1, self.shape[1])
         return i0, max(i1, i0), j0, max(j1, j0)
+
+
+FIXED_POINT_HEADROOM = 2.0**20  # fixed-point sums hold values up to ~1e6 times the reference
+
+
+def fixed_point_scale(reference: float) -> float:
+    """Scale of the 64-bit fixed-point atomic sums for values of size ``reference`` (a node's mass
+    rho_c h^2, kg/m, and momenta of it times 1 m/s): the power of two 2^k with the largest k for which a
+    sum up to ``FIXED_POINT_HEADROOM`` x ``reference`` still fits in 2^62. A value is stored as
+    round(value * 2^k), so each term is exact to ~2e-13 x ``reference`` and the sum is exact,
+    whatever order the threads add in (float atomic adds round at each addition, in the order
+    the threads happen to take)."""
+    if not reference > 0 or not np.isfinite(reference):
+        raise ValueError(f"fixed-point reference must be a positive number, got {reference!r}")
+    return float(2.0 ** np.floor(np.log2(2.0**62 / (FIXED_POINT_HEADROOM * reference))))
 
 
 @ti.func
@@ -91,9 +114,11 @@ def grid_update(
     mp_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
     box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
     v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
-    kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float),
+    kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float), inv_scale: float,
 ):
     """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
+
+    ``inv_scale``: 1 for copies of real numbers, 1 / scale for one copy of fixed-point integers.
 
     Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
     are visited, and of the P2G copies only those whose chunk's box holds the node (``col_mask``:
@@ -126,9 +151,10 @@ def grid_update(
         for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
             if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
                 k = copy_record(c, i, j, nx, ny)
-                pi += ti.Vector([mp_parts[k], mp_parts[k + 1]])
-                mi += mp_parts[k + 2]
-                mp_parts[k], mp_parts[k + 1], mp_parts[k + 2] = 0.0, 0.0, 0.0
+                # float: the backend's real type (a no-op on real copies)
+                pi += ti.Vector([ti.cast(mp_parts[k], float), ti.cast(mp_parts[k + 1], float)]) * inv_scale
+                mi += ti.cast(mp_parts[k + 2], float) * inv_scale
+                mp_parts[k], mp_parts[k + 1], mp_parts[k + 2] = 0, 0, 0
         m[i, j] = mi
         vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:

@@ -54,10 +54,11 @@ def ramp_integral(t: float, ramp_time: float) -> float:
 class Intruder:
     """A rigid polygon with its contact law and kinematics."""
 
-    def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float]):
+    def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float],
+                 fixed_scale: float | None = None):
         self.cfg = cfg
         self.width = cfg.width
-        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band)
+        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale)
         self.gravity = gravity
         self.x0 = (cfg.x, cfg.z, cfg.theta)
         self.state = IntruderState(cfg.x, cfg.z, cfg.theta)

@@ -22,7 +22,7 @@ from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax, fluidity_sources_kernel
-from .grid import Grid, grid_update
+from .grid import Grid, fixed_point_scale, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
@@ -65,14 +65,19 @@ class Solver:
         self.cfg = cfg
         backend = ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
         chunks = cfg.backend.p2g_chunks if backend.arch == "cpu" else 1  # a GPU: P2G by atomics
-        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks)
+        h = cfg.domain.size[0] / cfg.domain.cells[0]
+        # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
+        # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal)
+        fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
+        self.fixed_scale = fixed_point_scale(cfg.material.rho_c * h * h) if fixed else None  # a node's mass
+        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, self.fixed_scale)
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)
         self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
-        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band) for o in cfg.obstacles]
-        self.intruders = [Intruder(ic, band, self.gravity) for ic in cfg.intruders]
+        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
+        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale) for ic in cfg.intruders]
         if particles is None:
             exclude = [np.asarray(o.vertices) for o in cfg.obstacles]
             exclude += [b.world_vertices() for b in self.intruders]
@@ -87,7 +92,7 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
-        self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1)
+        self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, the obstacles' (constant) box
         # and pose values, and its graph once compiled
@@ -113,14 +118,17 @@ class Solver:
         """The kernels of one step in order (SPEC 1 recipe, steps 1-6), for these obstacles."""
         g, p, dt = self.grid, self.particles, self.dt
         launches = [
-            Launch(p2g_kernel(g.chunks > 1), p2g_args(p, g, dt)),  # 1. P2G (copies left zeroed by 2.)
+            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None), p2g_args(p, g, dt)),  # 1. P2G (copies left zeroed by 2.)
             Launch(grid_update, (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
-                g.size[0], self.walls.kinds, self.walls.mus,
+                g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale,
             )),
         ]
-        launches += [o.launch(g, dt, f"o{k}_") for k, (o, a) in enumerate(zip(self.obstacles, active)) if a]
-        launches += [b.contact.launch(g, dt, f"b{k}_") for k, b in enumerate(self.intruders)]  # 3. bodies
+        for k, (o, a) in enumerate(zip(self.obstacles, active)):
+            if a:
+                launches += o.launches(g, dt, f"o{k}_")
+        for k, b in enumerate(self.intruders):  # 3. bodies
+            launches += b.contact.launches(g, dt, f"b{k}_")
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
@@ -128,8 +136,9 @@ class Solver:
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
-            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked), (
-                p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params))]
+            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None), (
+                p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
+                f.fixed_scale or 1.0))]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
             launches.append(Launch(fluidity_relax, (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
@@ -477,6 +486,10 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
     if not config_path.exists():
         return False
     saved = json.loads(config_path.read_text()).get("config") or {}
+    try:  # a setting added since the folder was written is its default there, as when it is loaded
+        saved = MPMConfig.model_validate(saved).model_dump(mode="json")
+    except ValueError:
+        pass  # not a configuration of this version: compared as written
     diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory"})
     saved_end = (saved.get("time") or {}).get("t_end")
     extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end

@@ -27,14 +27,15 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
 @ti.func
 def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   mass: ti.template(), vol: ti.template(), sigma: ti.template(),
-                  gmp: ti.template(), nx, ny, h, pad, dt, atomic: ti.template()):
+                  gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
     ``gmp`` is the flat array of the grid copies (``grid.copy_record``); the stencil's first
     record is addressed once per point and the other 8 at fixed offsets from it (P2G 1.2-1.6x
     faster on 2 threads than a 3-index address per node, same sums: docs/performance.md).
-    ``atomic``: atomic adds (several threads share grid copy ``c``); otherwise plain
-    read-modify-write (one loop iteration owns copy ``c``). Returns the base node of the 3 x 3 stencil.
+    ``mode``: PLAIN read-modify-write (one loop iteration owns copy ``c``), ATOMIC float adds
+    (several threads share copy ``c``), or FIXED: atomic adds of round(value * ``scale``) into 64-bit
+    integers (exact sums, the same in any order). Returns the base node of the 3 x 3 stencil.
     """
     inv_h = 1.0 / h
     base, fx, w = quadratic_weights(x[p], inv_h, pad, nx, ny)
@@ -54,31 +55,50 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
             k = first + (a * ny + b) * 3
             dq = ti.Vector([weight * q[0], weight * q[1], weight * mp])
             for e in ti.static(range(3)):
-                if ti.static(atomic):
-                    ti.atomic_add(gmp[k + e], dq[e])
-                else:
-                    gmp[k + e] = gmp[k + e] + dq[e]
+                scatter_add(gmp, k + e, dq[e], mode, scale)
     return base
+
+
+PLAIN, ATOMIC, FIXED = 0, 1, 2  # how a scatter adds into its target (scatter_add)
+
+
+@ti.func
+def scatter_add(target: ti.template(), k, value, mode: ti.template(), scale):
+    """target[k] += value: PLAIN (one thread owns the target), ATOMIC (a float atomic add: the sum's
+    rounding depends on the threads' order) or FIXED (a 64-bit integer atomic add of
+    round(value * scale): exact, so the sum is the same in any order)."""
+    if ti.static(mode == FIXED):
+        ti.atomic_add(target[k], ti.cast(ti.round(value * scale), ti.i64))
+    elif ti.static(mode == ATOMIC):
+        ti.atomic_add(target[k], value)
+    else:
+        target[k] = target[k] + value
 
 
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
-def p2g_kernel(chunked: bool):
-    """The P2G kernel, chunked (CPU) or atomic (GPU): one compiled kernel each.
+def p2g_kernel(chunked: bool, fixed: bool = False):
+    """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
+    one compiled kernel each.
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
     ``ti.graph`` (see step_graph), which takes no template parameters.
     """
-    return _P2G_KERNELS[bool(chunked)]
+    if chunked and fixed:
+        raise ValueError("chunked P2G sums in a fixed order already: no fixed point")
+    return _P2G_KERNELS[PLAIN if chunked else FIXED if fixed else ATOMIC]
 
 
-def _make_p2g_kernel(chunked: bool):
+def _make_p2g_kernel(mode: int):
+    chunked = mode == PLAIN
+
     @ti.kernel
     def p2g_scatter(
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
+        scale: float,
     ):
         """P2G into the grid copies ``gmp`` (flat, see scatter_point; a grid of nx x ny nodes);
         ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
@@ -88,7 +108,7 @@ def _make_p2g_kernel(chunked: bool):
         few chunks would run on one thread: the outer loop has CHUNK_SPREAD iterations per chunk, and
         only the first of them scatters that chunk's points, serially in point order. The tasks spread
         over the threads and each copy's sums do not depend on the scheduling. Otherwise (GPU): one
-        copy and atomic adds, and the box is the whole grid.
+        copy and atomic adds (float, or 64-bit fixed point times ``scale``), and the box is the whole grid.
         """
         if ti.static(chunked):
             n = x.shape[0]
@@ -100,7 +120,7 @@ def _make_p2g_kernel(chunked: bool):
                     lo = ti.Vector([nx, ny])
                     hi = ti.Vector([0, 0])
                     for p in range(c * n // nc, (c + 1) * n // nc):
-                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, False)
+                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale)
                         lo = ti.min(lo, base)
                         hi = ti.max(hi, base + 3)
                     box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
@@ -109,18 +129,19 @@ def _make_p2g_kernel(chunked: bool):
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(x.shape[0]):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, True)
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale)
 
     return p2g_scatter
 
 
-_P2G_KERNELS = {flag: _make_p2g_kernel(flag) for flag in (False, True)}
+_P2G_KERNELS = {mode: _make_p2g_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
 
 
 def p2g_args(particles, grid, dt: float) -> tuple:
     """Arguments of :func:`p2g_kernel` for these particles and grid."""
     p = particles
-    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt)
+    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
+            grid.fixed_scale or 1.0)
 
 
 @ti.func
