@@ -7,17 +7,22 @@ import taichi as ti
 
 @ti.kernel
 def guard_scan(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), lx: float, lz: float, margin: float,
+    x: ti.types.ndarray(), v: ti.types.ndarray(), sigma: ti.types.ndarray(), lx: float, lz: float, margin: float,
     out: ti.types.ndarray(),
 ):
-    """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point]."""
+    """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point].
+
+    The stress is scanned too: a point's velocity comes back from the grid each step, and with
+    fixed-point atomic sums (integers) a NaN does not survive the grid, but its stress keeps it."""
     for k in range(5):
         out[k] = 0.0 if k != 3 and k != 4 else -1.0
     for p in range(x.shape[0]):
         xp = x[p]
         vp = v[p]
+        sp = sigma[p]
         speed = ti.cast(vp.norm(), ti.f64)
-        bad = ti.math.isnan(xp).any() or ti.math.isnan(vp).any() or ti.math.isinf(vp).any()
+        bad = (ti.math.isnan(xp).any() or ti.math.isnan(vp).any() or ti.math.isinf(vp).any()
+               or ti.math.isnan(sp).any() or ti.math.isinf(sp).any())
         if bad:
             out[0] += 1.0
             ti.atomic_max(out[3], ti.cast(p, ti.f64))

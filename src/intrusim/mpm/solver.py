@@ -189,7 +189,7 @@ class Solver:
         """Stop with a diagnosis (after a failure checkpoint) on NaN, escape or CFL breach."""
         lx, lz = self.cfg.domain.size
         p = self.particles
-        guard_scan(p.x, p.v, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
+        guard_scan(p.x, p.v, p.sigma, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
         if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
             return

@@ -47,6 +47,20 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
     cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
     first = copy_record(c, base[0], base[1], nx, ny)
+    if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
+        if (ti.math.isnan(q0).any() or ti.math.isinf(q0).any()
+                or ti.math.isnan(affine).any() or ti.math.isinf(affine).any()):
+            x[p] = ti.Vector([ti.math.nan, ti.math.nan])
+        else:
+            scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
+    else:
+        scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
+    return base
+
+
+@ti.func
+def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.template(), scale):
+    """(m v, m) += w_ab (q0 + a ca + b cb, m_p) into the 3 x 3 records from ``first``."""
     for a in ti.static(range(3)):
         qa = q0 + a * ca
         for b in ti.static(range(3)):
@@ -56,7 +70,6 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
             dq = ti.Vector([weight * q[0], weight * q[1], weight * mp])
             for e in ti.static(range(3)):
                 scatter_add(gmp, k + e, dq[e], mode, scale)
-    return base
 
 
 PLAIN, ATOMIC, FIXED = 0, 1, 2  # how a scatter adds into its target (scatter_add)
