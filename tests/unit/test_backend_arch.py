@@ -110,3 +110,19 @@ def test_gpu_check_refuses_a_non_positive_time():
     proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "gpu_check.py"), "--t-end", "0"],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2 and "--t-end and --record-every must be > 0" in proc.stderr
+
+
+def test_gpu_check_on_the_cpu_against_itself_finds_no_difference(tmp_path):
+    # the script end to end, with the CPU in the GPU's place: two processes from the same state give
+    # the same numbers bit for bit (the CPU's P2G sums in a fixed order), and it says so
+    out = tmp_path / "check.json"
+    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "gpu_check.py"), "--arch", "cpu", "--threads", "1",
+                           "--t-end", "0.003", "--record-every", "0.001", "--json", str(out)],
+                          capture_output=True, text=True, timeout=300, env={**os.environ, "INTRUSIM_TI_ARCH": ""})
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    got = json.loads(out.read_text())
+    assert [r["arch"] for r in got["runs"]] == ["cpu", "cpu"]
+    assert len(got["runs"][0]["series"]["time"]) == 4  # t = 0 and every 1 ms to 3 ms
+    assert all(d["max_abs_diff"] == 0.0 for d in got["difference"].values())
+    assert got["difference"]["fz"]["max_abs"] > 0.0  # the wheel touches the bed: a force was compared
+    assert "cpu / cpu speed" in proc.stdout and "largest difference" in proc.stdout
