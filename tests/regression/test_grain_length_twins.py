@@ -148,3 +148,28 @@ def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin(script)
     small = script.state(*SMALL_PAIR[1][:3], 60.0, 0.053, (2.5, 3.0))
     assert (big["slip"], big["sinkage_over_r"]) == (pytest.approx(0.048, abs=0.001), pytest.approx(0.156, abs=0.001))
     assert abs(big["slip"] - small["slip"]) < 0.015 and abs(big["sinkage_over_r"] - small["sinkage_over_r"]) < 0.010
+
+
+def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
+    """Session 44's registered low-omega run, read in session 45 over 5.0-6.0 s: the 12 mm-grain large
+    wheel at 10 RPM against the 6 mm one. (a) slip more than 0.03 below 0.246: met (0.174); (b) the
+    excess slip over 30 RPM is a length effect below 0.120, not one above 0.161: not (0.174);
+    (c), (d) xi-DRFT within 15 % in v and sinkage: both miss the sinkage."""
+    big = script.state(FIG / "wheel_10rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m", 12e-3,
+                       10.0, 0.106, (5.0, 6.0))  # fmt: skip
+    assert big["windows"] == 2 and big["drift"] < 0.05  # settled by the registered rule
+    assert (big["velocity"], big["sinkage"], big["slip"]) == (
+        pytest.approx(0.0917, abs=2e-4), pytest.approx(24.27e-3, abs=0.02e-3), pytest.approx(0.174, abs=0.001))
+    six = script.state(FIG / "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 6e-3, 10.0, 0.106,
+                       (5.0, 6.0))  # the 6 mm-grain wheel, session 30  # fmt: skip
+    six_slip, six_sinkage = six["slip"], six["sinkage"]
+    assert (six_slip, six_sinkage) == (pytest.approx(0.246, abs=0.001), pytest.approx(26.93e-3, abs=0.02e-3))
+    assert six_slip - big["slip"] > 0.03  # (a)
+    assert big["slip"] - 0.061 == pytest.approx(0.113, abs=0.002)  # its excess over its own 30 RPM slip
+    assert big["slip"] > 0.061 + 0.100  # (b): not a grain-length effect
+    per_doubling = (big["slip"] - six_slip, (big["sinkage"] - six_sinkage) / 0.106)
+    assert per_doubling == (pytest.approx(-0.072, abs=0.002), pytest.approx(-0.025, abs=0.002))
+    for v, sink, dv, ds in ((0.0996, 19.7e-3, 0.086, -0.188), (0.1002, 16.57e-3, 0.093, -0.317)):  # (c) xi 1.94, (d) 3.773
+        assert v / big["velocity"] - 1 == pytest.approx(dv, abs=0.002)
+        assert sink / big["sinkage"] - 1 == pytest.approx(ds, abs=0.002)
+        assert abs(ds) > 0.15  # the sinkage misses
