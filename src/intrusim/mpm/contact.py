@@ -18,6 +18,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
+from .fixed_point import to_fixed
 from .step_graph import Launch, Var
 
 if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
@@ -79,6 +80,15 @@ def polygon_signed_distance(p, verts: ti.template(), nv):
     return sd, n
 
 
+@ti.func
+def _summand(j, scale, fixed: ti.template()):
+    """A node's float64 impulse as added to the sums: itself, or in fixed point (``to_fixed``)."""
+    if ti.static(fixed):
+        return to_fixed(j, ti.cast(scale, ti.f64))
+    else:
+        return j
+
+
 def _make_contact_kernel(fixed: bool):
     @ti.kernel
     def rigid_polygon_contact(
@@ -112,17 +122,10 @@ def _make_contact_kernel(fixed: bool):
                     v_new = vb + coulomb_project(v_old - vb, n, mu)
                     dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
                     moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
-                    j_node = ti.Vector([-dp[0], -dp[1], moment])
-                    if ti.static(fixed):
-                        j_node = ti.round(j_node * ti.cast(scale, ti.f64))
-                        j_fixed = ti.cast(j_node, ti.i64)
-                        impulse[0] += j_fixed
-                        if r[0] > 0.0:  # ahead of the body's reference point
-                            impulse[1] += j_fixed
-                    else:
-                        impulse[0] += j_node
-                        if r[0] > 0.0:  # ahead of the body's reference point
-                            impulse[1] += j_node
+                    j_node = _summand(ti.Vector([-dp[0], -dp[1], moment]), scale, fixed)
+                    impulse[0] += j_node
+                    if r[0] > 0.0:  # ahead of the body's reference point
+                        impulse[1] += j_node
                     gv[i, j] = v_new
 
     return rigid_polygon_contact

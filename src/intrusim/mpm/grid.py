@@ -10,6 +10,7 @@ import taichi as ti
 from . import backend
 from .backend import info
 from .boundaries import wall_velocity
+from .fixed_point import fixed_point_scale
 
 PAD = 3  # cells of padding around the domain, enough for the quadratic stencil of escaping points
 
@@ -18,7 +19,7 @@ class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
     def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1,
-                 fixed_scale: float | None = None):
+                 fixed_density: float | None = None):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
@@ -31,11 +32,14 @@ class Grid:
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
         # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, all
         # copies in one flat array (see copy_record)
-        # fixed_scale (one copy, atomic adds): the records are 64-bit integers, value * fixed_scale,
-        # so that atomic sums are exact and do not depend on their order (see fixed_point_scale)
-        self.fixed_scale = None if fixed_scale is None else float(fixed_scale)
-        if self.fixed_scale is not None and self.chunks != 1:
-            raise ValueError("fixed-point P2G sums use one grid copy (chunks = 1)")
+        # fixed_density (one copy, atomic adds): the records are 64-bit integers, value * fixed_scale
+        # with the scale of a node's mass fixed_density h^2, so that atomic sums are exact and do not
+        # depend on their order (see fixed_point_scale)
+        self.fixed_scale = None
+        if fixed_density is not None:
+            if self.chunks != 1:
+                raise ValueError("fixed-point P2G sums use one grid copy (chunks = 1)")
+            self.fixed_scale = fixed_point_scale(fixed_density * self.h * self.h)
         self.inv_scale = 1.0 if self.fixed_scale is None else 1.0 / self.fixed_scale
         dtype = real if self.fixed_scale is None else ti.i64
         self.mp_parts = ti.ndarray(dtype, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
@@ -61,21 +65,6 @@ class Grid:
         j0 = max(int(np.floor((cz - radius) / self.h)) + self.pad, 0)
         j1 = min(int(np.ceil((cz + radius) / self.h)) + self.pad + 1, self.shape[1])
         return i0, max(i1, i0), j0, max(j1, j0)
-
-
-FIXED_POINT_HEADROOM = 2.0**20  # fixed-point sums hold values up to ~1e6 times the reference
-
-
-def fixed_point_scale(reference: float) -> float:
-    """Scale of the 64-bit fixed-point atomic sums for values of size ``reference`` (a node's mass
-    rho_c h^2, kg/m, and momenta of it times 1 m/s): the power of two 2^k with the largest k for which a
-    sum up to ``FIXED_POINT_HEADROOM`` x ``reference`` still fits in 2^62. A value is stored as
-    round(value * 2^k), so each term is exact to ~2e-13 x ``reference`` and the sum is exact,
-    whatever order the threads add in (float atomic adds round at each addition, in the order
-    the threads happen to take)."""
-    if not reference > 0 or not np.isfinite(reference):
-        raise ValueError(f"fixed-point reference must be a positive number, got {reference!r}")
-    return float(2.0 ** np.floor(np.log2(2.0**62 / (FIXED_POINT_HEADROOM * reference))))
 
 
 @ti.func

@@ -22,7 +22,7 @@ from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax, fluidity_sources_kernel
-from .grid import Grid, fixed_point_scale, grid_update
+from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
@@ -65,12 +65,11 @@ class Solver:
         self.cfg = cfg
         backend = ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
         chunks = cfg.backend.p2g_chunks if backend.arch == "cpu" else 1  # a GPU: P2G by atomics
-        h = cfg.domain.size[0] / cfg.domain.cells[0]
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
-        # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal)
+        # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
-        self.fixed_scale = fixed_point_scale(cfg.material.rho_c * h * h) if fixed else None  # a node's mass
-        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, self.fixed_scale)
+        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None)
+        self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)

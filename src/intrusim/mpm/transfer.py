@@ -10,6 +10,7 @@ velocity gradient the constitutive update needs. Internal forces use the MLS-MPM
 import taichi as ti
 
 from . import backend
+from .fixed_point import to_fixed
 from .grid import copy_record
 
 
@@ -81,7 +82,7 @@ def scatter_add(target: ti.template(), k, value, mode: ti.template(), scale):
     rounding depends on the threads' order) or FIXED (a 64-bit integer atomic add of
     round(value * scale): exact, so the sum is the same in any order)."""
     if ti.static(mode == FIXED):
-        ti.atomic_add(target[k], ti.cast(ti.round(value * scale), ti.i64))
+        ti.atomic_add(target[k], to_fixed(value, scale))
     elif ti.static(mode == ATOMIC):
         ti.atomic_add(target[k], value)
     else:
