@@ -16,7 +16,8 @@ with separation, walls) it prints, all measured in the same run:
   (not the paper's law), as a ratio to the paper's law's step,
 * optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
   (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
-  from a short run.
+  from a short run, and the same step with the wheel's dynamics on the host (its impulse read
+  back every step, ``backend.device_bodies = False``) instead of on the device.
 
 Each thread count runs in its own process (Taichi is initialised once per process):
 
@@ -184,25 +185,35 @@ def time_numpy_step(solver, rounds: int = 4) -> float:
     return best
 
 
-def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02) -> dict:
-    """Wall seconds per physical second of the paper's wheel run (coupled, 60 RPM)."""
+def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds: int = 3) -> dict:
+    """Wall seconds per physical second of the paper's wheel run (coupled, 60 RPM), with the body's
+    dynamics on the device (the default) and on the host (its impulse read back every step): the two
+    solvers run the same state in alternate rounds, so the machine's drift falls on both; best round."""
     from intrusim.mpm.solver import Solver
     from intrusim.scenarios import grousered_wheel_scenario
     from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
 
     s = paper_settings("wheel").model_copy(update=dict(arch=arch))
-    solver = Solver(mpm_config(grousered_wheel_scenario(), s, 60.0, None))
-    for _ in range(5):
-        solver.step()
+    solvers = {}
+    for on_device in (True, False):
+        cfg = mpm_config(grousered_wheel_scenario(), s, 60.0, None)
+        cfg.backend.device_bodies = on_device
+        solvers[on_device] = Solver(cfg)
+        for _ in range(5):
+            solvers[on_device].step()
     _sync()
-    n = max(1, int(round(physical / solver.dt)))
-    t0 = time.perf_counter()
-    for _ in range(n):
-        solver.step()
-    _sync()
-    per_step = (time.perf_counter() - t0) / n
-    return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": per_step * 1e3,
-            "wall_s_per_physical_s": per_step / solver.dt}
+    n = max(1, int(round(physical / rounds / solvers[True].dt)))
+    best = {True: float("inf"), False: float("inf")}
+    for _ in range(rounds):
+        for on_device, solver in solvers.items():
+            t0 = time.perf_counter()
+            for _ in range(n):
+                solver.step()
+            _sync()
+            best[on_device] = min(best[on_device], (time.perf_counter() - t0) / n)
+    solver = solvers[True]
+    return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": best[True] * 1e3,
+            "wall_s_per_physical_s": best[True] / solver.dt, "host_body_ms_per_step": best[False] * 1e3}
 
 
 def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bool = False,
@@ -362,7 +373,9 @@ def report(results: list[dict], arch: str) -> None:
         if "wheel" in r:
             w = r["wheel"]
             print(f"paper wheel ({r['threads']} threads): {w['particles']} points, dt {w['dt']:.3g} s, "
-                  f"{w['ms_per_step']:.2f} ms/step -> {w['wall_s_per_physical_s']:.0f} s wall per physical second")
+                  f"{w['ms_per_step']:.2f} ms/step -> {w['wall_s_per_physical_s']:.0f} s wall per physical second; "
+                  f"with its dynamics on the host (impulse read back each step) {w['host_body_ms_per_step']:.2f} ms/step, "
+                  f"{w['host_body_ms_per_step'] / w['ms_per_step']:.2f}x")
 
 
 if __name__ == "__main__":

@@ -274,6 +274,12 @@ class BackendConfig(_Model):
         "atomic adds (their rounding follows the threads' order). Vulkan and Metal: float atomics "
         "always (64-bit integer atomics are not portable). The CPU's chunked P2G sums in a fixed order either way",
     )
+    device_bodies: bool = Field(
+        True,
+        description="a coupled body's dynamics (prescribed omega, free x and z) in a kernel at the end "
+        "of each step, its pose kept on the device: no read-back of the step's impulse (on a GPU, "
+        "a wait for the device every step); False: read back and advanced on the host (the reference)",
+    )
 
 
 class MPMConfig(_Model):

@@ -89,12 +89,22 @@ def _summand(j, scale, fixed: ti.template()):
         return j
 
 
+@ti.func
+def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: int, ny: int):
+    """Node index range [i0, i1) x [j0, j1) covering the disc of ``radius`` about (cx, cz), clipped
+    to the nx x ny grid (float64, as ``Grid.index_box`` on the host)."""
+    i0 = ti.max(ti.cast(ti.floor((cx - radius) / h), ti.i32) + pad, 0)
+    i1 = ti.min(ti.cast(ti.ceil((cx + radius) / h), ti.i32) + pad + 1, nx)
+    j0 = ti.max(ti.cast(ti.floor((cz - radius) / h), ti.i32) + pad, 0)
+    j1 = ti.min(ti.cast(ti.ceil((cz + radius) / h), ti.i32) + pad + 1, ny)
+    return i0, ti.max(i1, i0), j0, ti.max(j1, j0)
+
+
 def _make_contact_kernel(fixed: bool):
     @ti.kernel
     def rigid_polygon_contact(
         gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
-        h: float, pad: int, i0: int, i1: int, j0: int, j1: int,
-        bx: float, bz: float, theta: float, bvx: float, bvz: float, omega: float,
+        h: float, pad: int, pose: ti.types.ndarray(), box_radius: ti.f64, h64: ti.f64,
         mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(), scale: float,
     ):
         """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
@@ -104,12 +114,20 @@ def _make_contact_kernel(fixed: bool):
         round(value * ``scale``), exact in any order (``fold_impulse`` adds them to the totals);
         otherwise float64 atomic adds into the totals.
 
-        ``reach`` = the largest vertex distance from the reference point + band: nodes farther away
-        are outside the band and skip the distance computation.
+        ``pose`` = (x, z, theta, vx, vz, omega) in float64 on the device (the body's dynamics may
+        advance it there, see intruder.advance_coupled); the nodes visited are the box of
+        ``node_box`` around (x, z). ``reach`` = the largest vertex distance from the reference point
+        + band: nodes farther away are outside the band and skip the distance computation.
         """
+        bx, bz, theta = ti.cast(pose[0], float), ti.cast(pose[1], float), ti.cast(pose[2], float)
+        bvx, bvz, omega = ti.cast(pose[3], float), ti.cast(pose[4], float), ti.cast(pose[5], float)
+        i0, i1, j0, j1 = node_box(pose[0], pose[1], box_radius, h64, pad, gm.shape[0], gm.shape[1])
         c, s = ti.cos(theta), ti.sin(theta)
+        nj = j1 - j0
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
-        for i, j in ti.ndrange((i0, i1), (j0, j1)):
+        for q in range((i1 - i0) * nj):  # the box, row by row (as ti.ndrange)
+            i = i0 + q // nj
+            j = j0 + q % nj
             node = ti.Vector([(i - pad) * h, (j - pad) * h])
             r = node - ti.Vector([bx, bz])
             if gm[i, j] > 0.0 and r.norm_sqr() < reach * reach:
@@ -141,6 +159,15 @@ def fold_impulse(step_sums: ti.types.ndarray(), impulse: ti.types.ndarray(), inv
     for q in range(step_sums.shape[0]):
         impulse[q] += ti.cast(step_sums[q], ti.f64) * ti.cast(inv_scale, ti.f64)
         step_sums[q] = ti.Vector([0, 0, 0], ti.i64)
+
+
+@ti.kernel
+def set_pose(pose: ti.types.ndarray(), x: ti.f64, z: ti.f64, theta: ti.f64, vx: ti.f64, vz: ti.f64, omega: ti.f64):
+    """pose = (x, z, theta, vx, vz, omega): a pose given by the host (prescribed motion)."""
+    pose[0], pose[1], pose[2], pose[3], pose[4], pose[5] = x, z, theta, vx, vz, omega
+
+
+POSE_FIELDS = ("x", "z", "theta", "vx", "vz", "omega")
 
 
 @dataclass
@@ -183,6 +210,10 @@ class PolygonContact:
         # cumulative (Fx, Fz, My) dt on the body [0], and from the nodes ahead of it [1]
         # (3-vectors: one read back in ~6 us, to_numpy ~100 us; each step reads [0] only)
         self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
+        # (x, z, theta, vx, vz, omega) in float64: the pose the contact kernel reads (set by the host
+        # each step, or advanced on the device by the body's dynamics: no read-back per step)
+        self.pose = ti.ndarray(ti.f64, shape=len(POSE_FIELDS))
+        self.pose.fill(0.0)
         # fixed_scale: each step's node sums in 64-bit fixed point (exact in any order; a GPU), then
         # added to ``impulse`` by one serial kernel, so that runs do not depend on the threads' order
         self.fixed_scale = None if fixed_scale is None else float(fixed_scale)
@@ -191,30 +222,37 @@ class PolygonContact:
             self.step_sums = ti.Vector.ndarray(3, ti.i64, shape=2)
             self.step_sums.fill(0)
 
-    POSE_VARS = ("i0", "i1", "j0", "j1", "x", "z", "theta", "vx", "vz", "omega")
+    def write_pose(self, pose: BodyPose) -> None:
+        """Set the device pose (x, z, theta, vx, vz, omega) the contact kernel reads."""
+        self.pose.from_numpy(np.array([getattr(pose, n) for n in POSE_FIELDS], np.float64))
 
-    def launches(self, grid: "Grid", dt: float, prefix: str) -> list[Launch]:
-        """The contact kernel's launch (and, in fixed point, the fold of its sums into the totals);
-        the node box and the pose are ``Var`` named ``prefix + name``."""
-        box_pose = [Var(prefix + name) for name in self.POSE_VARS]
+    def read_pose(self) -> BodyPose:
+        """The device pose (float64, as the contact kernel and the body's dynamics left it)."""
+        return BodyPose(*(float(v) for v in self.pose.to_numpy()))
+
+    def launches(self, grid: "Grid", dt: float, prefix: str, posed_by_host: bool = True) -> list[Launch]:
+        """The contact kernel's launch (and, in fixed point, the fold of its sums into the totals).
+
+        ``posed_by_host``: first set the device pose from the ``Var`` named ``prefix + name`` for
+        each of :data:`POSE_FIELDS` (see :meth:`launch_values`); otherwise the pose stays what is
+        on the device (a static obstacle's, or a body whose dynamics run there)."""
         fixed = self.fixed_scale is not None
         contact = Launch(_CONTACT_KERNELS[fixed], (
-            grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, *box_pose,
-            self.mu, self.band, self.radius + self.band, dt, self.step_sums if fixed else self.impulse,
-            self.fixed_scale if fixed else 1.0,
+            grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, self.pose,
+            self.radius + self.band + grid.h, grid.h, self.mu, self.band, self.radius + self.band, dt,
+            self.step_sums if fixed else self.impulse, self.fixed_scale if fixed else 1.0,
         ))
-        if not fixed:
-            return [contact]
-        return [contact, Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale))]
+        out = [contact]
+        if posed_by_host:
+            out.insert(0, Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS))))
+        if fixed:
+            out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
+        return out
 
-    def launch_values(self, grid: "Grid", pose: BodyPose, prefix: str) -> dict[str, float | int]:
-        """This step's ``Var`` values of :meth:`launch`: the node box around the body and its pose.
-
-        An empty box (body outside the grid) gives an empty loop.
-        """
-        box = grid.index_box((pose.x, pose.z), self.radius + self.band + grid.h)
-        values = (*box, pose.x, pose.z, pose.theta, pose.vx, pose.vz, pose.omega)
-        return {prefix + name: val for name, val in zip(self.POSE_VARS, values)}
+    @staticmethod
+    def launch_values(pose: BodyPose, prefix: str) -> dict[str, float]:
+        """This step's ``Var`` values of :meth:`launches` with ``posed_by_host``: the pose."""
+        return {prefix + n: float(getattr(pose, n)) for n in POSE_FIELDS}
 
     def read_impulse(self) -> np.ndarray:
         """Cumulative impulse on the body (Jx, Jz per unit width N s/m; angular N s)."""

@@ -57,15 +57,6 @@ class Grid:
         j = (np.arange(self.shape[1]) - self.pad) * self.h
         return np.stack(np.meshgrid(i, j, indexing="ij"), axis=-1)
 
-    def index_box(self, center: tuple[float, float], radius: float) -> tuple[int, int, int, int]:
-        """Node index range [i0, i1) x [j0, j1) covering a disc (clipped to the grid)."""
-        cx, cz = center
-        i0 = max(int(np.floor((cx - radius) / self.h)) + self.pad, 0)
-        i1 = min(int(np.ceil((cx + radius) / self.h)) + self.pad + 1, self.shape[0])
-        j0 = max(int(np.floor((cz - radius) / self.h)) + self.pad, 0)
-        j1 = min(int(np.ceil((cz + radius) / self.h)) + self.pad + 1, self.shape[1])
-        return i0, max(i1, i0), j0, max(j1, j0)
-
 
 @ti.func
 def copy_record(c, i, j, nx, ny):

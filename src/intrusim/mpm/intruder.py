@@ -5,18 +5,23 @@ counter-clockwise (a wheel rolling forward in +x has omega < 0). Forces reaching
 per unit width from the 2D solver and are multiplied by ``width`` to give 3D forces (N).
 Coupled bodies: m_x dvx/dt = Fx + F_ext,x ; m_z dvz/dt = Fz + F_ext,z - m_z g (weight m_z g),
 integrated by semi-implicit Euler (velocity first, then position with the new velocity).
+
+A coupled body's dynamics run on the host (``Intruder.after_step``: the step's impulse read back)
+or, with ``on_device``, in a kernel at the end of the step (``advance_coupled``): the pose then
+stays on the device between steps, and ``Intruder.state`` reads it back only when asked.
 """
 
-from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
 import numpy as np
+import taichi as ti
 
 from intrusim.geometry import posed_polygon
 
 from .config import CoupledMotion, IntruderConfig, PrescribedMotion
-from .contact import BodyPose, PolygonContact
+from .contact import POSE_FIELDS, BodyPose, PolygonContact
+from .step_graph import Launch, Var
 
 
 @dataclass
@@ -51,26 +56,96 @@ def ramp_integral(t: float, ramp_time: float) -> float:
     return t - 0.5 * ramp_time
 
 
+@ti.kernel
+def advance_coupled(
+    pose: ti.types.ndarray(), impulse: ti.types.ndarray(), impulse_prev: ti.types.ndarray(),
+    dt: ti.f64, width: ti.f64, fx_ext: ti.f64, fz_ext: ti.f64, weight: ti.f64, mass_x: ti.f64,
+    mass_z: ti.f64, free_x: ti.i32, free_z: ti.i32, omega_next: ti.f64,
+):
+    """m dv/dt = F width + F_ext (semi-implicit Euler) on the device; F = this step's impulse / dt.
+
+    ``pose`` = (x, z, theta, vx, vz, omega); ``impulse[0]`` the cumulative contact impulse per unit
+    width, ``impulse_prev`` its value one step earlier (updated here); ``weight`` = m_z g_z (N);
+    ``omega_next`` the driven omega at the new time. As ``Intruder.advance`` on the host."""
+    j = impulse[0]
+    fx = (j[0] - impulse_prev[0]) / dt * width + fx_ext
+    fz = (j[1] - impulse_prev[1]) / dt * width + fz_ext + weight
+    impulse_prev[0], impulse_prev[1], impulse_prev[2] = j[0], j[1], j[2]
+    if free_x:
+        pose[3] += dt * fx / mass_x
+    if free_z:
+        pose[4] += dt * fz / mass_z
+    pose[0] += dt * pose[3]
+    pose[1] += dt * pose[4]
+    pose[2] += dt * pose[5]
+    pose[5] = omega_next
+
+
 class Intruder:
-    """A rigid polygon with its contact law and kinematics."""
+    """A rigid polygon with its contact law and kinematics.
+
+    ``on_device``: a coupled body's dynamics run in a kernel of the step (``advance_coupled``) and
+    its pose stays on the device; :attr:`state` reads it back when asked, and a state handed out
+    (and perhaps changed) is written back before the next step. Otherwise the host reads the
+    step's impulse back, advances the body and hands the pose to the next step.
+    """
 
     def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float],
-                 fixed_scale: float | None = None):
+                 fixed_scale: float | None = None, on_device: bool = False):
         self.cfg = cfg
         self.width = cfg.width
         self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale)
         self.gravity = gravity
         self.x0 = (cfg.x, cfg.z, cfg.theta)
-        self.state = IntruderState(cfg.x, cfg.z, cfg.theta)
+        self.on_device = bool(on_device) and self.coupled
+        self._state = IntruderState(cfg.x, cfg.z, cfg.theta)
+        self._device_newer = False  # the device holds a later pose than self._state
+        self._handed_out = True  # self._state may differ from the device's: write it before a step
+        self._impulse_prev = np.zeros(3)  # the cumulative impulse one step back (host dynamics)
+        self._impulse_prev_nd = None
+        if self.on_device:
+            self._impulse_prev_nd = ti.ndarray(ti.f64, shape=3)
+            self._impulse_prev_nd.fill(0.0)
         self.set_time(0.0)
 
     @property
     def coupled(self) -> bool:
         return isinstance(self.cfg.motion, CoupledMotion)
 
+    @property
+    def state(self) -> IntruderState:
+        """The body's pose and velocity now (read back from the device if its dynamics run there)."""
+        if self._device_newer:
+            pose = self.contact.read_pose()
+            for name in POSE_FIELDS:
+                setattr(self._state, name, getattr(pose, name))
+            self._device_newer = False
+        self._handed_out = True
+        return self._state
+
+    @state.setter
+    def state(self, value: IntruderState) -> None:
+        self._state = value
+        self._device_newer = False
+        self._handed_out = True
+
+    @property
+    def impulse_prev(self) -> np.ndarray:
+        """The cumulative contact impulse one step back (the next step's force is the difference)."""
+        if self._impulse_prev_nd is not None:
+            return self._impulse_prev_nd.to_numpy()
+        return self._impulse_prev.copy()
+
+    @impulse_prev.setter
+    def impulse_prev(self, value) -> None:
+        self._impulse_prev = np.asarray(value, np.float64).reshape(3).copy()
+        if self._impulse_prev_nd is not None:
+            self._impulse_prev_nd.from_numpy(self._impulse_prev)
+
     def world_vertices(self) -> np.ndarray:
         """Polygon in the world frame at the current pose, m."""
-        return posed_polygon(self.contact.vertices, self.state.x, self.state.z, self.state.theta)
+        st = self.state
+        return posed_polygon(self.contact.vertices, st.x, st.z, st.theta)
 
     def set_time(self, t: float) -> None:
         """Set prescribed velocities (and pose) at time t; for coupled bodies only omega."""
@@ -84,13 +159,50 @@ class Intruder:
         else:
             self.state.omega = m.omega * ramp(t, m.ramp_time)
 
+    # ------------------------------------------------------------------ in the MPM step
+    def launches(self, grid, dt: float, prefix: str) -> list[Launch]:
+        """The body's kernels in a step: its contact (posed by the host unless ``on_device``), then
+        on the device its dynamics (``Var`` ``prefix + "omega_next"``)."""
+        out = self.contact.launches(grid, dt, prefix, posed_by_host=not self.on_device)
+        if self.on_device:
+            m = self.cfg.motion
+            out.append(Launch(advance_coupled, (
+                self.contact.pose, self.contact.impulse, self._impulse_prev_nd, dt, self.width,
+                float(m.external_force[0]), float(m.external_force[1]), m.mass_z * self.gravity[1],
+                m.mass_x, m.mass_z, int(m.free_x), int(m.free_z), Var(prefix + "omega_next"),
+            )))
+        return out
+
+    def launch_values(self, t_next: float, prefix: str) -> dict[str, float]:
+        """The ``Var`` values of :meth:`launches` for the step that ends at ``t_next``; writes a
+        state handed out since the last step back to the device first."""
+        if not self.on_device:
+            return self.contact.launch_values(self._state.pose(), prefix)
+        if self._handed_out:
+            self.contact.write_pose(self._state.pose())
+            self._handed_out = False
+        m = self.cfg.motion
+        return {prefix + "omega_next": float(m.omega * ramp(t_next, m.ramp_time))}
+
+    def after_step(self, t_new: float, dt: float) -> None:
+        """The host's part once the step's kernels have run: move the body to ``t_new``."""
+        if self.on_device:
+            self._device_newer = True
+        elif self.coupled:
+            impulse = self.contact.read_impulse()
+            force = (impulse - self._impulse_prev) / dt
+            self._impulse_prev = impulse
+            self.advance(t_new, dt, force[:2])
+        else:
+            self.set_time(t_new)
+
     def advance(self, t_new: float, dt: float, force_2d: np.ndarray) -> None:
         """Move the body to time t_new = t + dt given the 2D contact force (Fx, Fz) N/m."""
         m = self.cfg.motion
         if isinstance(m, PrescribedMotion):
             self.set_time(t_new)
             return
-        st = self.state
+        st = self._state
         fx = force_2d[0] * self.width + m.external_force[0]
         fz = force_2d[1] * self.width + m.external_force[1] + m.mass_z * self.gravity[1]
         if m.free_x:

@@ -76,7 +76,10 @@ class Solver:
         self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
         self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
-        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale) for ic in cfg.intruders]
+        for o in self.obstacles:
+            o.write_pose(STATIC_POSE)
+        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies)
+                          for ic in cfg.intruders]
         if particles is None:
             exclude = [np.asarray(o.vertices) for o in cfg.obstacles]
             exclude += [b.world_vertices() for b in self.intruders]
@@ -93,14 +96,12 @@ class Solver:
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
-        # by the obstacles still in place: the step's launches, the obstacles' (constant) box
-        # and pose values, and its graph once compiled
-        self._plans: dict[tuple[bool, ...], tuple[list[Launch], dict]] = {}
+        # by the obstacles still in place: the step's launches, and its graph once compiled
+        self._plans: dict[tuple[bool, ...], list[Launch]] = {}
         self._graphs: dict[tuple[bool, ...], StepGraph] = {}
         self._scratch = make_scratch()
         self.step_count = 0
         self.rows: list[dict] = []
-        self._impulse_prev = [np.zeros(3) for _ in self.intruders]
         self._impulse_mark = [np.zeros(3) for _ in self.intruders]
         self._impulse_mark_ahead = [np.zeros(3) for _ in self.intruders]
         self._step_mark = 0
@@ -125,9 +126,9 @@ class Solver:
         ]
         for k, (o, a) in enumerate(zip(self.obstacles, active)):
             if a:
-                launches += o.launches(g, dt, f"o{k}_")
-        for k, b in enumerate(self.intruders):  # 3. bodies
-            launches += b.contact.launches(g, dt, f"b{k}_")
+                launches += o.launches(g, dt, f"o{k}_", posed_by_host=False)
+        for k, b in enumerate(self.intruders):  # 3. bodies (and their dynamics, where they run on the device)
+            launches += b.launches(g, dt, f"b{k}_")
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
@@ -150,19 +151,14 @@ class Solver:
         The kernels run as one compiled Taichi graph (``backend.step_graph``, see step_graph)
         or one call each; both give the same numbers.
         """
-        g = self.grid
         active = tuple(o.removal_time is None or self.t < o.removal_time for o in self.cfg.obstacles)
-        plan = self._plans.get(active)
-        if plan is None:
-            static: dict = {}
-            for k, (obstacle, a) in enumerate(zip(self.obstacles, active)):  # static bodies
-                if a:
-                    static.update(obstacle.launch_values(g, STATIC_POSE, f"o{k}_"))
-            plan = self._plans[active] = (self._launches(active), static)
-        launches, static = plan
-        values = dict(static)
+        launches = self._plans.get(active)
+        if launches is None:
+            launches = self._plans[active] = self._launches(active)
+        values: dict = {}
+        t_next = (self.step_count + 1) * self.dt
         for k, body in enumerate(self.intruders):  # rigid intruders (Coulomb, no tension)
-            values.update(body.contact.launch_values(g, body.state.pose(), f"b{k}_"))
+            values.update(body.launch_values(t_next, f"b{k}_"))
         if self.cfg.backend.step_graph:
             graph = self._graphs.get(active)
             if graph is None:
@@ -174,14 +170,8 @@ class Solver:
         self._advance_bodies()
 
     def _advance_bodies(self) -> None:
-        for k, body in enumerate(self.intruders):
-            if body.coupled:
-                impulse = body.contact.read_impulse()
-                force = (impulse - self._impulse_prev[k]) / self.dt
-                self._impulse_prev[k] = impulse
-                body.advance(self.t, self.dt, force[:2])
-            else:
-                body.set_time(self.t)
+        for body in self.intruders:
+            body.after_step(self.t, self.dt)
 
     # ------------------------------------------------------------------ diagnostics
     def check_guards(self) -> None:
@@ -384,7 +374,7 @@ class Solver:
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
             "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
-            "impulse_prev": [a.tolist() for a in self._impulse_prev],
+            "impulse_prev": [b.impulse_prev.tolist() for b in self.intruders],
             "impulse_mark": [a.tolist() for a in self._impulse_mark],
             "impulse_mark_ahead": [a.tolist() for a in self._impulse_mark_ahead],
         }
@@ -421,7 +411,7 @@ class Solver:
             # a checkpoint from before the front / rear split has no part from ahead: it restarts at 0
             ahead = meta.get("impulse_ahead", [None] * len(self.intruders))[k]
             body.contact.write_impulse(meta["impulse"][k], ahead)
-            self._impulse_prev[k] = np.asarray(meta["impulse_prev"][k])
+            body.impulse_prev = meta["impulse_prev"][k]
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
             self._impulse_mark_ahead[k] = np.asarray(meta.get("impulse_mark_ahead", [np.zeros(3)] * len(self.intruders))[k])
 
