@@ -92,7 +92,7 @@ def _summand(j, scale, fixed: ti.template()):
 @ti.func
 def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: int, ny: int):
     """Node index range [i0, i1) x [j0, j1) covering the disc of ``radius`` about (cx, cz), clipped
-    to the nx x ny grid (float64, as ``Grid.index_box`` on the host)."""
+    to the nx x ny grid (in float64, as the pose is held)."""
     i0 = ti.max(ti.cast(ti.floor((cx - radius) / h), ti.i32) + pad, 0)
     i1 = ti.min(ti.cast(ti.ceil((cx + radius) / h), ti.i32) + pad + 1, nx)
     j0 = ti.max(ti.cast(ti.floor((cz - radius) / h), ti.i32) + pad, 0)
