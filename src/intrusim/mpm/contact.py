@@ -208,7 +208,8 @@ class PolygonContact:
         self._verts = ti.Vector.ndarray(2, info().real, shape=len(verts))
         self._verts.from_numpy(verts.astype(info().np_real))
         # cumulative (Fx, Fz, My) dt on the body [0], and from the nodes ahead of it [1]
-        # (3-vectors: one read back in ~6 us, to_numpy ~100 us; each step reads [0] only)
+        # (3-vectors: one read back in ~6 us, to_numpy ~100 us; with the dynamics on the host each
+        # step reads [0], on the device only the records do)
         self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
         # (x, z, theta, vx, vz, omega) in float64: the pose the contact kernel reads (set by the host
         # each step, or advanced on the device by the body's dynamics: no read-back per step)
