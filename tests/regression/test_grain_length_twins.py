@@ -173,3 +173,24 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
         assert v / big["velocity"] - 1 == pytest.approx(dv, abs=0.002)
         assert sink / big["sinkage"] - 1 == pytest.approx(ds, abs=0.002)
         assert abs(ds) > 0.15  # the sinkage misses
+
+
+def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_percent(script):
+    """Session 46's registered extension of that run from 6.0 to 8.0 s, read over 7.0-8.0 s: (e) the
+    sinkage settles (7.5-8.0 s within 0.2 mm of 7.0-7.5 s: 0.03 mm); (c) xi-DRFT (xi 1.94: 0.0996 m/s,
+    19.7 mm) is met if the MPM sinks at most 23.19 mm: it sinks 23.35 mm, so the sinkage misses by 0.6
+    points (-15.6 %) and v is within (+8.0 %); the excess slip stays above (b)'s 0.161."""
+    label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
+    csv = FIG / "wheel_10rpm_nonlocal_d12_to8s.csv"
+    late = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 8.0))
+    halves = [script.state(csv, label, 12e-3, 10.0, 0.106, w) for w in ((7.0, 7.5), (7.5, 8.0))]
+    assert late["windows"] == 2 and abs(late["drift"]) < 0.01
+    assert abs(halves[1]["sinkage"] - halves[0]["sinkage"]) < 0.2e-3  # (e) settled
+    assert (late["velocity"], late["sinkage"], late["slip"]) == (
+        pytest.approx(0.0922, abs=2e-4), pytest.approx(23.35e-3, abs=0.02e-3), pytest.approx(0.170, abs=0.001))
+    earlier = script.state(csv, label, 12e-3, 10.0, 0.106, (5.0, 6.0))  # the same run's 5.0-6.0 s, as read in session 45
+    assert earlier["sinkage"] == pytest.approx(24.27e-3, abs=0.02e-3) and earlier["sinkage"] - late["sinkage"] > 0.8e-3
+    assert late["sinkage"] > 19.7e-3 / 0.85  # (c) missed, by 0.16 mm of sinkage
+    assert 19.7e-3 / late["sinkage"] - 1 == pytest.approx(-0.156, abs=0.002)
+    assert 0.0996 / late["velocity"] - 1 == pytest.approx(0.080, abs=0.002)
+    assert late["slip"] > 0.061 + 0.100  # (b) unchanged: not a grain-length effect
