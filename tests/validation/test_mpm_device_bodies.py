@@ -9,7 +9,9 @@ differ only in the last bit of the body's state (the kernel's arithmetic may fus
 import numpy as np
 import taichi as ti
 
-from intrusim.mpm.config import BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MPMConfig, PrescribedMotion, Rectangle
+from intrusim.mpm.config import (
+    BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MPMConfig, PrescribedMotion, Rectangle,
+)
 from intrusim.mpm.contact import node_box
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
@@ -79,7 +81,8 @@ def _three_bodies(device_bodies: bool) -> MPMConfig:
     """Two coupled squares (different masses, pushes and spins) and a prescribed one in one bed."""
     square = [(-0.02, -0.02), (0.02, -0.02), (0.02, 0.02), (-0.02, 0.02)]
     coupled = [CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5, external_force=(0.2, -3.0)),
-               CoupledMotion(omega=15.0, ramp_time=2e-3, mass_x=0.8, mass_z=0.3, external_force=(-0.1, 0.0), free_x=False)]
+               CoupledMotion(omega=15.0, ramp_time=2e-3, mass_x=0.8, mass_z=0.3, external_force=(-0.1, 0.0),
+                             free_x=False)]
     bodies = [IntruderConfig(vertices=square, x=x, z=0.1, mu_w=0.35, motion=m) for x, m in zip((0.07, 0.16), coupled)]
     bodies.append(IntruderConfig(vertices=square, x=0.24, z=0.1, mu_w=0.35, motion=PrescribedMotion(vz=-0.2)))
     return MPMConfig(domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),

@@ -11,7 +11,6 @@ or, with ``on_device``, in a kernel at the end of the step (``advance_coupled``)
 stays on the device between steps, and ``Intruder.state`` reads it back only when asked.
 """
 
-
 from dataclasses import asdict, dataclass
 
 import numpy as np
