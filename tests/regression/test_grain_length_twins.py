@@ -194,3 +194,24 @@ def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_perc
     assert 19.7e-3 / late["sinkage"] - 1 == pytest.approx(-0.156, abs=0.002)
     assert 0.0996 / late["velocity"] - 1 == pytest.approx(0.080, abs=0.002)
     assert late["slip"] > 0.061 + 0.100  # (b) unchanged: not a grain-length effect
+
+
+def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15_percent(script):
+    """Session 46's second registered extension, 8.0 -> 10.0 s, read over 9.0-10.0 s. (e') neither
+    settled (the halves differ by 0.22 mm, limit 0.2) nor still easing by the rule (0.17 mm below
+    7.0-8.0 s, limit 0.3): the decline slowed from ~0.8 to ~0.09 mm/s. (c') met by the registered
+    threshold (23.19 mm) by 0.01 mm; with the DRFT run's unrounded sinkage (19.66 mm) -15.2 %: on the edge."""
+    label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
+    csv = FIG / "wheel_10rpm_nonlocal_d12_to10s.csv"
+    late = script.state(csv, label, 12e-3, 10.0, 0.106, (9.0, 10.0))
+    halves = [script.state(csv, label, 12e-3, 10.0, 0.106, w) for w in ((9.0, 9.5), (9.5, 10.0))]
+    before = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 8.0))
+    assert late["windows"] == 2 and abs(late["drift"]) < 0.01
+    assert (late["velocity"], late["sinkage"], late["slip"]) == (
+        pytest.approx(0.0919, abs=2e-4), pytest.approx(23.18e-3, abs=0.02e-3), pytest.approx(0.172, abs=0.001))
+    assert before["sinkage"] == pytest.approx(23.35e-3, abs=0.02e-3)  # the first extension's reading
+    assert abs(halves[1]["sinkage"] - halves[0]["sinkage"]) > 0.2e-3  # (e') not settled by the rule ...
+    assert 0 < before["sinkage"] - late["sinkage"] < 0.3e-3  # ... nor still easing by it
+    assert late["sinkage"] <= 23.19e-3 and late["velocity"] >= 0.0866  # (c') met by the registered threshold
+    assert 19.66e-3 / late["sinkage"] - 1 == pytest.approx(-0.152, abs=0.002)  # unrounded DRFT: just outside
+    assert late["slip"] > 0.061 + 0.100  # (b) unchanged
