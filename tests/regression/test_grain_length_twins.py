@@ -215,3 +215,24 @@ def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15
     assert late["sinkage"] <= 23.19e-3 and late["velocity"] >= 0.0866  # (c') met by the registered threshold
     assert 19.66e-3 / late["sinkage"] - 1 == pytest.approx(-0.152, abs=0.002)  # unrounded DRFT: just outside
     assert late["slip"] > 0.061 + 0.100  # (b) unchanged
+
+
+def test_carried_to_14_s_the_10_rpm_sinkage_has_stopped_at_xi_drfts_limit(script):
+    """Session 46's third registered extension, 10 -> 14 s, read over 13.0-14.0 s: (e'') the easing has
+    ended (11-12 s and 13-14 s within 0.2 mm: 0.19 mm); (c'') on the edge (23.30 mm, between the
+    registered 22.93 and 23.33). Over 7-14 s (14 windows) the sinkage is 23.22 mm (23.03-23.37):
+    xi-DRFT (unrounded 19.66 mm) -15.3 % in sinkage, +8.5 % in v."""
+    label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
+    csv = FIG / "wheel_10rpm_nonlocal_d12_to14s.csv"
+    late = script.state(csv, label, 12e-3, 10.0, 0.106, (13.0, 14.0))
+    mid = script.state(csv, label, 12e-3, 10.0, 0.106, (11.0, 12.0))
+    plateau = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 14.0))
+    assert late["windows"] == 2 and plateau["windows"] == 14 and abs(plateau["drift"]) < 0.01
+    assert (late["velocity"], late["sinkage"], late["slip"]) == (
+        pytest.approx(0.0914, abs=2e-4), pytest.approx(23.30e-3, abs=0.02e-3), pytest.approx(0.177, abs=0.001))
+    assert abs(late["sinkage"] - mid["sinkage"]) < 0.2e-3  # (e'') ended
+    assert 22.93e-3 < late["sinkage"] < 23.33e-3  # (c'') on the edge
+    assert plateau["sinkage"] == pytest.approx(23.22e-3, abs=0.02e-3)
+    assert 19.66e-3 / plateau["sinkage"] - 1 == pytest.approx(-0.153, abs=0.002)  # just outside 15 %
+    assert 0.0996 / plateau["velocity"] - 1 == pytest.approx(0.085, abs=0.003)
+    assert plateau["slip"] > 0.061 + 0.100  # (b): the low-omega excess slip is not a grain-length effect
