@@ -18,7 +18,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .fixed_point import to_fixed
+from .fixed_point import ATOMIC, FIXED, scatter_add
 from .step_graph import Launch, Var
 
 if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
@@ -81,15 +81,6 @@ def polygon_signed_distance(p, verts: ti.template(), nv):
 
 
 @ti.func
-def _summand(j, scale, fixed: ti.template()):
-    """A node's float64 impulse as added to the sums: itself, or in fixed point (``to_fixed``)."""
-    if ti.static(fixed):
-        return to_fixed(j, ti.cast(scale, ti.f64))
-    else:
-        return j
-
-
-@ti.func
 def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: int, ny: int):
     """Node index range [i0, i1) x [j0, j1) covering the disc of ``radius`` about (cx, cz), clipped
     to the nx x ny grid (in float64, as the pose is held)."""
@@ -101,11 +92,13 @@ def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: in
 
 
 def _make_contact_kernel(fixed: bool):
+    mode = FIXED if fixed else ATOMIC  # how the nodes' impulses are summed (fixed_point.scatter_add)
+
     @ti.kernel
     def rigid_polygon_contact(
         gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
-        h: float, pad: int, pose: ti.types.ndarray(), box_radius: ti.f64, h64: ti.f64,
-        mu: float, band: float, reach: float, dt: float, impulse: ti.types.ndarray(), scale: float,
+        h: float, pad: int, pose: ti.types.ndarray(), mu: float, band: float, reach: float, dt: float,
+        impulse: ti.types.ndarray(), scale: float,
     ):
         """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
 
@@ -115,13 +108,15 @@ def _make_contact_kernel(fixed: bool):
         otherwise float64 atomic adds into the totals.
 
         ``pose`` = (x, z, theta, vx, vz, omega) in float64 on the device (the body's dynamics may
-        advance it there, see intruder.advance_coupled); the nodes visited are the box of
-        ``node_box`` around (x, z). ``reach`` = the largest vertex distance from the reference point
-        + band: nodes farther away are outside the band and skip the distance computation.
+        advance it there, see intruder.advance_coupled). ``reach`` = the largest vertex distance from
+        the reference point + band: nodes farther away are outside the band and skip the distance
+        computation; the nodes visited are the box of ``node_box`` around (x, z) that covers reach + h.
         """
         bx, bz, theta = ti.cast(pose[0], float), ti.cast(pose[1], float), ti.cast(pose[2], float)
         bvx, bvz, omega = ti.cast(pose[3], float), ti.cast(pose[4], float), ti.cast(pose[5], float)
-        i0, i1, j0, j1 = node_box(pose[0], pose[1], box_radius, h64, pad, gm.shape[0], gm.shape[1])
+        h64 = ti.cast(h, ti.f64)
+        i0, i1, j0, j1 = node_box(pose[0], pose[1], ti.cast(reach, ti.f64) + h64, h64, pad,
+                                  gm.shape[0], gm.shape[1])
         c, s = ti.cos(theta), ti.sin(theta)
         nj = j1 - j0
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
@@ -140,10 +135,10 @@ def _make_contact_kernel(fixed: bool):
                     v_new = vb + coulomb_project(v_old - vb, n, mu)
                     dp = ti.cast(gm[i, j], ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the grains
                     moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
-                    j_node = _summand(ti.Vector([-dp[0], -dp[1], moment]), scale, fixed)
-                    impulse[0] += j_node
+                    j_node = ti.Vector([-dp[0], -dp[1], moment])
+                    scatter_add(impulse, 0, j_node, mode, scale)
                     if r[0] > 0.0:  # ahead of the body's reference point
-                        impulse[1] += j_node
+                        scatter_add(impulse, 1, j_node, mode, scale)
                     gv[i, j] = v_new
 
     return rigid_polygon_contact
@@ -212,7 +207,8 @@ class PolygonContact:
         # step reads [0], on the device only the records do)
         self.impulse = ti.Vector.ndarray(3, ti.f64, shape=2)
         # (x, z, theta, vx, vz, omega) in float64: the pose the contact kernel reads (set by the host
-        # each step, or advanced on the device by the body's dynamics: no read-back per step)
+        # each step, or advanced on the device by the body's dynamics: no read-back per step); zero, the
+        # polygon as given and at rest, is a static obstacle's pose
         self.pose = ti.ndarray(ti.f64, shape=len(POSE_FIELDS))
         self.pose.fill(0.0)
         # fixed_scale: each step's node sums in 64-bit fixed point (exact in any order; a GPU), then
@@ -239,9 +235,9 @@ class PolygonContact:
         on the device (a static obstacle's, or a body whose dynamics run there)."""
         fixed = self.fixed_scale is not None
         contact = Launch(_CONTACT_KERNELS[fixed], (
-            grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, self.pose,
-            self.radius + self.band + grid.h, grid.h, self.mu, self.band, self.radius + self.band, dt,
-            self.step_sums if fixed else self.impulse, self.fixed_scale if fixed else 1.0,
+            grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, self.pose, self.mu,
+            self.band, self.radius + self.band, dt, self.step_sums if fixed else self.impulse,
+            self.fixed_scale if fixed else 1.0,
         ))
         out = [contact]
         if posed_by_host:

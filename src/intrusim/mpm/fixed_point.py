@@ -28,3 +28,27 @@ def fixed_point_scale(reference: float) -> float:
 def to_fixed(value, scale):
     """round(value * scale) as 64-bit integers: a term of an exact fixed-point sum."""
     return ti.cast(ti.round(value * scale), ti.i64)
+
+
+PLAIN, ATOMIC, FIXED = 0, 1, 2  # how a scatter adds into its target (scatter_add)
+
+
+def sum_mode(private_copies: bool, fixed: bool) -> int:
+    """The ``scatter_add`` mode of a kernel whose threads add into private copies (PLAIN, summed in
+    a fixed order) or into one shared target (ATOMIC floats, or FIXED: 64-bit fixed point)."""
+    if private_copies and fixed:
+        raise ValueError("private copies sum in a fixed order already: no fixed point")
+    return PLAIN if private_copies else FIXED if fixed else ATOMIC
+
+
+@ti.func
+def scatter_add(target: ti.template(), k, value, mode: ti.template(), scale):
+    """target[k] += value: PLAIN (one thread owns the target), ATOMIC (a float atomic add: the sum's
+    rounding depends on the threads' order) or FIXED (a 64-bit integer atomic add of
+    round(value * scale): exact, so the sum is the same in any order)."""
+    if ti.static(mode == FIXED):
+        ti.atomic_add(target[k], to_fixed(value, scale))
+    elif ti.static(mode == ATOMIC):
+        ti.atomic_add(target[k], value)
+    else:
+        target[k] = target[k] + value

@@ -33,7 +33,8 @@ import taichi as ti
 
 from . import backend
 from .grid import copy_record, union_box
-from .transfer import ATOMIC, CHUNK_SPREAD, FIXED, PLAIN, quadratic_weights, scatter_add
+from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
+from .transfer import CHUNK_SPREAD, quadratic_weights
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -69,7 +70,7 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
                     parts: ti.template(), nx, ny, h, pad, prm, mode: ti.template(), scale):
     """Point p's sources into copy c of ``parts`` (flat records, ``grid.copy_record``: the stencil's
-    first node addressed once, the other 8 at fixed offsets), by ``transfer.scatter_add`` (PLAIN: one
+    first node addressed once, the other 8 at fixed offsets), by ``fixed_point.scatter_add`` (PLAIN: one
     loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
     first = copy_record(c, base[0], base[1], nx, ny)
@@ -96,9 +97,7 @@ def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny, inv_
 def fluidity_sources_kernel(chunked: bool, fixed: bool = False):
     """The sources' kernel, chunked (CPU: private copies, deterministic) or atomic (GPU: one copy,
     atomic adds, float or 64-bit fixed point, the box is the whole grid), as ``transfer.p2g_kernel``."""
-    if chunked and fixed:
-        raise ValueError("chunked sources sum in a fixed order already: no fixed point")
-    return _SOURCE_KERNELS[PLAIN if chunked else FIXED if fixed else ATOMIC]
+    return _SOURCE_KERNELS[sum_mode(chunked, fixed)]
 
 
 def _make_sources_kernel(mode: int):

@@ -17,7 +17,7 @@ from .bed import build_bed
 from .boundaries import Walls
 from .config import MPMConfig, PrescribedMotion
 from .constitutive import NonlocalFluidity, material_from_config, pressure
-from .contact import BodyPose, PolygonContact
+from .contact import PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
@@ -30,7 +30,6 @@ from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
 
-STATIC_POSE = BodyPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's grid field
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
 
@@ -76,8 +75,6 @@ class Solver:
         self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
         self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
-        for o in self.obstacles:
-            o.write_pose(STATIC_POSE)
         self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies)
                           for ic in cfg.intruders]
         if particles is None:

@@ -10,7 +10,7 @@ velocity gradient the constitutive update needs. Internal forces use the MLS-MPM
 import taichi as ti
 
 from . import backend
-from .fixed_point import to_fixed
+from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
 from .grid import copy_record
 
 
@@ -73,22 +73,6 @@ def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.t
                 scatter_add(gmp, k + e, dq[e], mode, scale)
 
 
-PLAIN, ATOMIC, FIXED = 0, 1, 2  # how a scatter adds into its target (scatter_add)
-
-
-@ti.func
-def scatter_add(target: ti.template(), k, value, mode: ti.template(), scale):
-    """target[k] += value: PLAIN (one thread owns the target), ATOMIC (a float atomic add: the sum's
-    rounding depends on the threads' order) or FIXED (a 64-bit integer atomic add of
-    round(value * scale): exact, so the sum is the same in any order)."""
-    if ti.static(mode == FIXED):
-        ti.atomic_add(target[k], to_fixed(value, scale))
-    elif ti.static(mode == ATOMIC):
-        ti.atomic_add(target[k], value)
-    else:
-        target[k] = target[k] + value
-
-
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
@@ -99,9 +83,7 @@ def p2g_kernel(chunked: bool, fixed: bool = False):
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
     ``ti.graph`` (see step_graph), which takes no template parameters.
     """
-    if chunked and fixed:
-        raise ValueError("chunked P2G sums in a fixed order already: no fixed point")
-    return _P2G_KERNELS[PLAIN if chunked else FIXED if fixed else ATOMIC]
+    return _P2G_KERNELS[sum_mode(chunked, fixed)]
 
 
 def _make_p2g_kernel(mode: int):
