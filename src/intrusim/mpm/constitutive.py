@@ -51,53 +51,66 @@ def _return_mu_i(tau, p, dt, prm):
     """Yield-surface stress of the return under mu(I): tau = mu(I) P, mu(I) = mu_s + dmu I / (I0 + I),
     I = gdot d sqrt(rho_s / P), gdot = (tau* - tau) / (G dt); ``prm[4:7]`` = (dmu, I0, d sqrt(rho_s)).
     With x = tau* - tau: a x^2 + b x - c I0 = 0, a = d sqrt(rho_s/P) / (G dt), b = I0 + a (dmu P - c),
-    c = tau* - mu_s P > 0; its positive root, written without cancellation."""
+    c = tau* - mu_s P > 0; its positive root, written without cancellation (both forms are computed
+    and one is selected, so that the same code runs on vectors of points)."""
     c = tau - prm[2] * p
     a = prm[6] / (ti.sqrt(p) * prm[0] * dt)
     b = prm[5] + a * (prm[4] * p - c)
     root = ti.sqrt(b * b + 4.0 * a * c * prm[5])
-    x = 0.0 * c
-    if b > 0.0:
-        x = 2.0 * c * prm[5] / (b + root)
-    else:
-        x = (root - b) / (2.0 * a)
+    x = ti.select(b > 0.0, 2.0 * c * prm[5] / (b + root), (root - b) / (2.0 * a))
     return tau - x
 
 
 def _make_update(yield_return):
-    """The stress update of one point with the given return target ``yield_return(tau*, P, dt, prm)``."""
+    """The stress update of one point with the given return target ``yield_return(tau*, P, dt, prm)``:
+    a ``ti.func`` on the stress and velocity-gradient matrices, whose ``components`` attribute is the
+    same update on their components.
+
+    ``components`` has no branches (every case is computed and ``ti.select`` keeps one), so its
+    arguments may be scalars (one point) or equal-length vectors (one point per lane, the CPU's
+    vectorised G2P, ``transfer.g2p_lanes_kernel``); the values it selects are those of the branches.
+    It writes a negation as ``0.0 - x`` (Taichi does not compile a unary minus on an unscalarised
+    vector).
+    """
+
+    @ti.func
+    def components(s_xx, s_zz, s_xz, s_yy, l_xx, l_xz, l_zx, l_zz, rho, dt, prm):
+        G, lam, mu_s, rho_c = prm[0], prm[1], prm[2], prm[3]
+        d_xz = 0.5 * (l_xz + l_zx)
+        w = 0.5 * (l_xz - l_zx)
+        tr_d = l_xx + l_zz
+        # Jaumann trial stress: T* = T + dt (2 G D + lam tr(D) I + W T - T W); D_yy = 0 (plane strain)
+        rot = 2.0 * w * s_xz
+        t_xx = s_xx + dt * (2.0 * G * l_xx + lam * tr_d + rot)
+        t_zz = s_zz + dt * (2.0 * G * l_zz + lam * tr_d - rot)
+        t_xz = s_xz + dt * (2.0 * G * d_xz + w * (s_zz - s_xx))
+        t_yy = s_yy + dt * lam * tr_d
+        p = (0.0 - (t_xx + t_zz + t_yy)) / 3.0
+        # free separation: (rho - rho_c) P = 0, disconnected material carries no stress; its dgamma
+        # is the total shear strain increment (3D deviator of D)
+        separated = (rho < rho_c) | (p <= 0.0)
+        e_xx, e_zz, e_yy = l_xx - tr_d / 3.0, l_zz - tr_d / 3.0, (0.0 - tr_d) / 3.0
+        dgamma_free = dt * ti.sqrt(2.0 * (e_xx * e_xx + e_zz * e_zz + e_yy * e_yy + 2.0 * d_xz * d_xz))
+        # radial return at fixed pressure: tau -> the yield stress (mu_s P, or with a rate)
+        a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
+        tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
+        yielding = (tau > mu_s * p) & (rho >= rho_c) & (p > 0.0)
+        tau_new = yield_return(tau, p, dt, prm)
+        scale = tau_new / tau
+        dgamma = ti.select(separated, dgamma_free, ti.select(yielding, (tau - tau_new) / G, 0.0))
+        t_xx = ti.select(separated, 0.0, ti.select(yielding, a_xx * scale - p, t_xx))
+        t_zz = ti.select(separated, 0.0, ti.select(yielding, a_zz * scale - p, t_zz))
+        t_yy = ti.select(separated, 0.0, ti.select(yielding, a_yy * scale - p, t_yy))
+        t_xz = ti.select(separated, 0.0, ti.select(yielding, t_xz * scale, t_xz))
+        return t_xx, t_zz, t_xz, t_yy, dgamma
 
     @ti.func
     def update(sigma, s_yy, L, rho, dt, prm):
-        G, lam, rho_c = prm[0], prm[1], prm[3]
-        d_xx, d_zz, d_xz = L[0, 0], L[1, 1], 0.5 * (L[0, 1] + L[1, 0])
-        w = 0.5 * (L[0, 1] - L[1, 0])
-        tr_d = d_xx + d_zz
-        # Jaumann trial stress: T* = T + dt (2 G D + lam tr(D) I + W T - T W); D_yy = 0 (plane strain)
-        s_xx, s_zz, s_xz = sigma[0, 0], sigma[1, 1], sigma[0, 1]
-        rot = 2.0 * w * s_xz
-        t_xx = s_xx + dt * (2.0 * G * d_xx + lam * tr_d + rot)
-        t_zz = s_zz + dt * (2.0 * G * d_zz + lam * tr_d - rot)
-        t_xz = s_xz + dt * (2.0 * G * d_xz + w * (s_zz - s_xx))
-        t_yy = s_yy + dt * lam * tr_d
-        p = -(t_xx + t_zz + t_yy) / 3.0
-        dgamma = 0.0 * p
-        if rho < rho_c or p <= 0.0:
-            # free separation: (rho - rho_c) P = 0, disconnected material carries no stress
-            e_xx, e_zz, e_yy = d_xx - tr_d / 3.0, d_zz - tr_d / 3.0, -tr_d / 3.0  # 3D deviator of D
-            dgamma = dt * ti.sqrt(2.0 * (e_xx * e_xx + e_zz * e_zz + e_yy * e_yy + 2.0 * d_xz * d_xz))
-            t_xx, t_zz, t_xz, t_yy = 0.0, 0.0, 0.0, 0.0
-        else:
-            a_xx, a_zz, a_yy = t_xx + p, t_zz + p, t_yy + p  # deviator
-            tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * t_xz * t_xz))
-            if tau > prm[2] * p:
-                # radial return at fixed pressure: tau -> the yield stress (mu_s P, or with a rate)
-                tau_new = yield_return(tau, p, dt, prm)
-                scale = tau_new / tau
-                dgamma = (tau - tau_new) / G
-                t_xx, t_zz, t_yy, t_xz = a_xx * scale - p, a_zz * scale - p, a_yy * scale - p, t_xz * scale
+        t_xx, t_zz, t_xz, t_yy, dgamma = components(sigma[0, 0], sigma[1, 1], sigma[0, 1], s_yy, L[0, 0], L[0, 1],
+                                                    L[1, 0], L[1, 1], rho, dt, prm)
         return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
 
+    update.components = components
     return update
 
 
