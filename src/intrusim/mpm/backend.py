@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import taichi as ti
@@ -106,6 +107,25 @@ def ensure_initialized(
     SERIAL_LOOPS = actual == "cpu" and cpu_threads == 1
     _INFO = BackendInfo(arch=actual, precision=precision, cpu_threads=cpu_threads, requested=arch)
     return _INFO
+
+
+@contextmanager
+def unscalarized():
+    """Kernels compiled inside keep Taichi's vectors as vectors (``real_matrix_scalarize`` off).
+
+    Taichi splits every vector and matrix into scalars before code generation by default; with the
+    option off a vector of 8 floats is one LLVM vector, i.e. SIMD code on the CPU. The option is
+    global and read when a kernel compiles (and when a call looks up its compiled kernel), so it is
+    switched for those moments only: most kernels do not compile without it (Taichi 1.7 rejects a
+    unary minus or a cast on such a vector). See ``transfer.g2p_lanes_kernel``.
+    """
+    cfg = ti.lang.impl.current_cfg()
+    before = cfg.real_matrix_scalarize
+    cfg.real_matrix_scalarize = False
+    try:
+        yield
+    finally:
+        cfg.real_matrix_scalarize = before
 
 
 def arch_in_use() -> str:

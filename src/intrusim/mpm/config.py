@@ -280,6 +280,11 @@ class BackendConfig(_Model):
         "of each step, its pose kept on the device: no read-back of the step's impulse (on a GPU, "
         "a wait for the device every step); False: read back and advanced on the host (the reference)",
     )
+    simd_lanes: bool = Field(
+        True,
+        description="CPU: the G2P kernel (velocity, position, density, stress) computes 8 points at "
+        "once as vectors (SIMD); False: one point per loop iteration (the reference; a GPU's always)",
+    )
 
 
 class MPMConfig(_Model):

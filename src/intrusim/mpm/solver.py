@@ -26,7 +26,7 @@ from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
-from .transfer import g2p_kernel, p2g_args, p2g_kernel
+from .transfer import g2p_kernel, g2p_lanes_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
 
@@ -90,7 +90,9 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params))
+        self._g2p_lanes = backend.arch == "cpu" and cfg.backend.simd_lanes
+        g2p = g2p_lanes_kernel if self._g2p_lanes else g2p_kernel
+        self._g2p = g2p(self.material.taichi_update, len(self.material.params))
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, and its graph once compiled
@@ -129,7 +131,7 @@ class Solver:
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
-        )))
+        ), unscalarized=self._g2p_lanes))
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2

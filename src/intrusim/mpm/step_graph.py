@@ -18,10 +18,12 @@ from dataclasses import dataclass
 from typing import Any, Sequence
 
 import taichi as ti
+from taichi.graph._graph import gen_cpp_kernel
+from taichi.lang import impl
 from taichi.lang._ndarray import Ndarray
 from taichi.lang.matrix import Matrix, MatrixType
 
-from .backend import info
+from .backend import info, unscalarized
 
 
 @dataclass(frozen=True)
@@ -33,16 +35,26 @@ class Var:
 
 @dataclass(frozen=True)
 class Launch:
-    """One kernel launch: a Taichi kernel (no ``ti.template()`` parameters) and its arguments."""
+    """One kernel launch: a Taichi kernel (no ``ti.template()`` parameters) and its arguments.
+
+    ``unscalarized``: the kernel computes on vectors over points (``transfer.g2p_lanes_kernel``) and
+    is compiled without Taichi's scalarisation of vectors (``backend.unscalarized``).
+    """
 
     kernel: Any
     args: tuple
+    unscalarized: bool = False
 
 
 def run_direct(launches: Sequence[Launch], values: dict[str, Any]) -> None:
     """Call each kernel with its arguments (``Var`` replaced by ``values[name]``)."""
     for launch in launches:
-        launch.kernel(*(values[a.name] if isinstance(a, Var) else a for a in launch.args))
+        args = [values[a.name] if isinstance(a, Var) else a for a in launch.args]
+        if launch.unscalarized:  # compiled at its first call, with the config of that moment
+            with unscalarized():
+                launch.kernel(*args)
+        else:
+            launch.kernel(*args)
 
 
 class StepGraph:
@@ -59,24 +71,37 @@ class StepGraph:
         self._values: dict[str, Any] = {}  # the constants, then each run's Var values
         builder = ti.graph.GraphBuilder()
         for k, launch in enumerate(launches):
-            params = launch.kernel._primal.arguments
-            if len(params) != len(launch.args):
-                raise TypeError(f"{launch.kernel.__name__}: {len(launch.args)} arguments for {len(params)} parameters")
-            symbols = []
-            for j, (param, arg) in enumerate(zip(params, launch.args)):
-                if isinstance(arg, Var):
-                    name, value = arg.name, values[arg.name]
-                elif isinstance(arg, Ndarray):
-                    name, value = f"nd{id(arg)}", arg  # one symbol per array, shared by kernels
-                else:
-                    name, value = f"k{k}_{j}", arg
-                if name not in self._symbols:
-                    self._symbols[name] = _symbol(name, param.annotation, value)
-                    if not isinstance(arg, Var):
-                        self._values[name] = _runtime_value(param.annotation, value)
-                symbols.append(self._symbols[name])
+            symbols = self._bind(k, launch, values)
+            if launch.unscalarized:
+                # a graph compiles its kernels at its first run, with the config of that moment, and
+                # looks them up by kernel and config; Taichi's key of a config leaves this option out,
+                # so the kernel compiled here, unscalarised, is the one the graph finds and runs
+                prog = impl.get_runtime().prog
+                with unscalarized():
+                    prog.compile_kernel(prog.config(), prog.get_device_caps(), gen_cpp_kernel(launch.kernel, symbols))
             builder.dispatch(launch.kernel, *symbols)
         self._graph = builder.compile()
+
+    def _bind(self, k: int, launch: Launch, values: dict[str, Any]) -> list:
+        """The graph symbols of launch k's arguments (one per array, shared by kernels); records the
+        constants' values."""
+        params = launch.kernel._primal.arguments
+        if len(params) != len(launch.args):
+            raise TypeError(f"{launch.kernel.__name__}: {len(launch.args)} arguments for {len(params)} parameters")
+        symbols = []
+        for j, (param, arg) in enumerate(zip(params, launch.args)):
+            if isinstance(arg, Var):
+                name, value = arg.name, values[arg.name]
+            elif isinstance(arg, Ndarray):
+                name, value = f"nd{id(arg)}", arg  # one symbol per array, shared by kernels
+            else:
+                name, value = f"k{k}_{j}", arg
+            if name not in self._symbols:
+                self._symbols[name] = _symbol(name, param.annotation, value)
+                if not isinstance(arg, Var):
+                    self._values[name] = _runtime_value(param.annotation, value)
+            symbols.append(self._symbols[name])
+        return symbols
 
     def run(self, values: dict[str, Any]) -> None:
         """Launch the step with this step's ``Var`` values (names as given at construction)."""

@@ -224,3 +224,134 @@ def g2p_kernel(stress_update, n_params: int = 4):
 
     _G2P_KERNELS[(stress_update, n_params)] = g2p_density_stress
     return g2p_density_stress
+
+
+LANES = 8  # points per iteration of the vectorised G2P (one AVX register of f32, two of SSE)
+
+
+@ti.func
+def lanes_of(a: ti.template(), first, last):
+    """The vector of ``a[p]`` over the lanes' points p = min(first + k, last) (one load per lane)."""
+    return ti.Vector([a[ti.min(first + k, last)] for k in ti.static(range(LANES))])
+
+
+@ti.func
+def lanes_of_vec(a: ti.template(), first, last, i: ti.template()):
+    """The vector of component i of ``a[p]`` over the lanes (see :func:`lanes_of`)."""
+    return ti.Vector([a[ti.min(first + k, last)][i] for k in ti.static(range(LANES))])
+
+
+@ti.func
+def lanes_of_mat(a: ti.template(), first, last, i: ti.template(), j: ti.template()):
+    """The vector of component (i, j) of ``a[p]`` over the lanes (see :func:`lanes_of`)."""
+    return ti.Vector([a[ti.min(first + k, last)][i, j] for k in ti.static(range(LANES))])
+
+
+@ti.func
+def quadratic_weights_lanes(X, n: int):
+    """Base node (as a float), fractional offset and the 3 B-spline weights along one axis for the
+    lanes' grid coordinates X = x / h + pad (the lane form of :func:`quadratic_weights`)."""
+    base = ti.math.clamp(ti.floor(X - 0.5), 0.0, ti.cast(n - 3, float))
+    f = X - base
+    return base, f, [0.5 * (1.5 - f) ** 2, 0.75 - (f - 1.0) ** 2, 0.5 * (f - 0.5) ** 2]
+
+
+@ti.func
+def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
+    """:func:`g2p_point` for LANES points at once, each component a vector over the lanes:
+    returns (v_x, v_z) and the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order).
+    The grid is read one lane at a time (a gather); everything else is vector arithmetic."""
+    inv_h = 1.0 / h
+    b0, f0, w0 = quadratic_weights_lanes(x0 * inv_h + pad, gv.shape[0])
+    b1, f1, w1 = quadratic_weights_lanes(x1 * inv_h + pad, gv.shape[1])
+    i0 = [ti.cast(b0[k], ti.i32) for k in ti.static(range(LANES))]
+    i1 = [ti.cast(b1[k], ti.i32) for k in ti.static(range(LANES))]
+    zero = ti.Vector([0.0] * LANES)
+    s0x, s0z, sax, saz, sbx, sbz = zero, zero, zero, zero, zero, zero
+    for a in ti.static(range(3)):
+        r0x, r0z, rbx, rbz = zero, zero, zero, zero  # sum_b w_b v_ab, sum_b w_b v_ab b
+        for b in ti.static(range(3)):
+            gx = ti.Vector([gv[i0[k] + a, i1[k] + b][0] for k in ti.static(range(LANES))])
+            gz = ti.Vector([gv[i0[k] + a, i1[k] + b][1] for k in ti.static(range(LANES))])
+            wx, wz = w1[b] * gx, w1[b] * gz
+            r0x += wx
+            r0z += wz
+            if ti.static(b > 0):
+                rbx += b * wx
+                rbz += b * wz
+        s0x += w0[a] * r0x
+        s0z += w0[a] * r0z
+        if ti.static(a > 0):
+            sax += (a * w0[a]) * r0x
+            saz += (a * w0[a]) * r0z
+        sbx += w0[a] * rbx
+        sbz += w0[a] * rbz
+    k = 4.0 * inv_h
+    return s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1)
+
+
+@ti.func
+def exp_near_zero_lanes(x):
+    """:func:`exp_near_zero` on a vector: the polynomial, and ti.exp only when a lane needs it."""
+    r = 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0)))))
+    far = (x >= 0.01) | (x <= -0.01)  # |x| >= 0.01 (no ti.abs on an unscalarised vector)
+    if far.any():
+        r = ti.select(far, ti.Vector([ti.exp(x[k]) for k in ti.static(range(LANES))]), r)  # lane by lane
+    return r
+
+
+_G2P_LANES_KERNELS: dict = {}
+
+
+def g2p_lanes_kernel(stress_update, n_params: int = 4):
+    """The G2P + density + stress kernel of :func:`g2p_kernel`, vectorised over LANES points: the CPU's.
+
+    Taichi's CPU backend emits scalar code for a loop over points (it does not vectorise across
+    iterations: an ndarray index is linearised in 32-bit arithmetic that LLVM cannot prove
+    consecutive). Here each iteration takes LANES consecutive points and every per-point quantity
+    is a vector over them, so the arithmetic is SIMD; the grid reads and the stores stay per lane.
+    The law is ``stress_update.components`` (branch-free, see ``constitutive._make_update``).
+
+    Must be compiled with Taichi's ``real_matrix_scalarize`` off (``backend.unscalarized``; the step
+    does it, see ``step_graph.Launch.unscalarized``): otherwise Taichi splits the vectors back into
+    scalars. The last block's missing lanes repeat the last point and are not stored.
+    """
+    key = (stress_update, n_params)
+    if key in _G2P_LANES_KERNELS:
+        return _G2P_LANES_KERNELS[key]
+    law = stress_update.components
+
+    @ti.kernel
+    def g2p_density_stress_lanes(
+        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
+        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
+    ):
+        n = x.shape[0]
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for blk in range((n + LANES - 1) // LANES):
+            p0 = blk * LANES
+            x0, x1 = lanes_of_vec(x, p0, n - 1, 0), lanes_of_vec(x, p0, n - 1, 1)
+            v0, v1, l00, l01, l10, l11 = g2p_lanes(x0, x1, gv, h, pad)
+            m = lanes_of(mass, p0, n - 1)
+            # v_p *= exp(dt tr D), <= m_p / rho_floor
+            vp = ti.min(lanes_of(vol, p0, n - 1) * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
+            t_xx, t_zz, t_xz, t_yy, dgamma = law(
+                lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1),
+                lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1),
+                l00, l01, l10, l11, m / vp, dt, prm)
+            for k in ti.static(range(LANES)):
+                p = p0 + k
+                if p < n:
+                    v[p] = ti.Vector([v0[k], v1[k]])
+                    C[p] = ti.Matrix([[l00[k], l01[k]], [l10[k], l11[k]]])
+                    x[p] = ti.Vector([x0[k] + dt * v0[k], x1[k] + dt * v1[k]])
+                    vol[p] = vp[k]
+                    sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
+                    s_yy[p] = t_yy[k]
+                    eps_p[p] += dgamma[k]
+                    gdot_p[p] = dgamma[k] / dt
+
+    _G2P_LANES_KERNELS[key] = g2p_density_stress_lanes
+    return g2p_density_stress_lanes
