@@ -5,6 +5,8 @@ with separation, walls) it prints, all measured in the same run:
 
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
 * the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
+* on the CPU, the same step with G2P one point per loop iteration (``backend.simd_lanes = False``)
+  against the default G2P vectorised over 8 points, in alternate rounds,
 * the same step with the kernels called one by one instead of as one compiled graph, and with
   P2G by atomic adds into one grid copy (a GPU's P2G), in 64-bit fixed point (reproducible, the
   default) and in float (rounding in the threads' order),
@@ -130,7 +132,7 @@ RATE_LAWS = {  # --rate-laws: the options that are not the paper's law, against 
 
 
 def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True,
-               material: dict | None = None, deterministic_sums: bool = True):
+               material: dict | None = None, deterministic_sums: bool = True, simd_lanes: bool = True):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
@@ -138,7 +140,7 @@ def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = No
         domain=DomainConfig(size=domain, cells=cells),
         material=material or {},
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
-        backend=dict(arch=arch, step_graph=step_graph, deterministic_sums=deterministic_sums,
+        backend=dict(arch=arch, step_graph=step_graph, deterministic_sums=deterministic_sums, simd_lanes=simd_lanes,
                      **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
     )
     return Solver(cfg)
@@ -166,6 +168,26 @@ def time_steps(solver, min_time: float = 2.0) -> float:
             solver.step()
         _sync()
         best = min(best, (time.perf_counter() - t0) / n)
+    return best
+
+
+def time_alternating(solvers: dict, min_time: float = 2.0, rounds: int = 5) -> dict:
+    """Seconds per step of each solver, timed in alternate rounds (so the machine's drift falls on
+    all of them), best round of each."""
+    for solver in solvers.values():  # compile and warm up
+        for _ in range(5):
+            solver.step()
+    _sync()
+    per_step = time_steps(next(iter(solvers.values())), min_time / 3)
+    n = max(10, int(min_time / (rounds * len(solvers) * per_step)))  # steps per round
+    best = {key: np.inf for key in solvers}
+    for _ in range(rounds):
+        for key, solver in solvers.items():
+            t0 = time.perf_counter()
+            for _ in range(n):
+                solver.step()
+            _sync()
+            best[key] = min(best[key], (time.perf_counter() - t0) / n)
     return best
 
 
@@ -247,6 +269,9 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
         out["cases"][label] = row
         del solver
+        if arch == "cpu":  # G2P one point per loop iteration against the vectorised one (8 points), same run
+            pair = time_alternating({lanes: bed_solver(domain, cells, bed, arch, simd_lanes=lanes) for lanes in (True, False)})
+            row["lanes_pair_ms_per_step"] = (pair[True] * 1e3, pair[False] * 1e3)
         if arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
             atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
             row["atomic_p2g_ms_per_step"] = time_steps(atomic) * 1e3
@@ -351,6 +376,13 @@ def report(results: list[dict], arch: str) -> None:
             if "float_atomic_ms_per_step" in c:
                 print(f"{r['threads']} threads, {label}: P2G with float atomics (deterministic_sums = false, not "
                       f"bit-reproducible) {c['float_atomic_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} the default")
+    for r in results:
+        for label, c in r["cases"].items():
+            if "lanes_pair_ms_per_step" in c:
+                lanes, scalar = c["lanes_pair_ms_per_step"]
+                print(f"{r['threads']} threads, {label}: G2P one point per loop iteration (backend.simd_lanes = false) "
+                      f"{scalar:.2f} ms/step vs {lanes:.2f} vectorised over 8 points (alternate rounds, best of 5): "
+                      f"{scalar / lanes:.2f}x")
     for r in results:
         for label, c in r["cases"].items():
             print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
