@@ -18,7 +18,7 @@ from intrusim.mpm.backend import ensure_initialized, unscalarized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import DruckerPragerSeparation, material_from_config
 from intrusim.mpm.solver import Solver
-from intrusim.mpm.transfer import LANES, g2p_kernel, g2p_lanes_kernel
+from intrusim.mpm.transfer import LANES, g2p_kernel, g2p_lanes_kernel, p2g_kernel, p2g_scatter_lanes
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 
@@ -112,6 +112,35 @@ def test_a_point_count_below_one_block():
     _close(*(_g2p(material, state, lanes=lanes) for lanes in (True, False)))
 
 
+def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The chunked P2G of ``state`` into ``chunks`` grid copies: (copies, each copy's node box)."""
+    arrs = _arrays(state)
+    copies = ti.ndarray(ti.f32, shape=chunks * NX * NZ * 3)
+    box = ti.ndarray(ti.i32, shape=(chunks, 4))
+    args = [arrs[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [copies, box, NX, NZ, H, PAD, DT, 1.0]
+    if lanes:
+        with unscalarized():
+            p2g_scatter_lanes(*args)
+    else:
+        p2g_kernel(chunked=True)(*args)
+    return copies.to_numpy().reshape(chunks, NX, NZ, 3), box.to_numpy()
+
+
+@pytest.mark.parametrize("chunks", [1, 3, 16])
+def test_chunked_p2g_matches_the_one_point_kernel(chunks):
+    ensure_initialized(precision="f32")
+    state = _state(8 * 125 + 5)
+    state["x"] = np.clip(state["x"], 0.02, 0.15)  # inside the grid's stencil range
+    state["v"] = np.random.default_rng(5).standard_normal((len(state["x"]), 2))
+    state["C"] = np.random.default_rng(6).standard_normal((len(state["x"]), 2, 2))
+    (a, box_a), (b, box_b) = _p2g(state, chunks, lanes=False), _p2g(state, chunks, lanes=True)
+    assert np.array_equal(box_a, box_b)  # each chunk's node box: lanes past a chunk's end not counted
+    assert np.abs(a).max() > 0
+    # each copy's sums, point by point in order (measured on x86-64: identical bit for bit)
+    for e, name in enumerate(("momentum x", "momentum z", "mass")):
+        np.testing.assert_allclose(b[..., e], a[..., e], rtol=0, atol=2e-6 * np.abs(a[..., e]).max(), err_msg=name)
+
+
 def test_unscalarized_restores_the_config_on_error():
     ensure_initialized(precision="f32")
     cfg = ti.lang.impl.current_cfg()
@@ -157,17 +186,21 @@ assert ti.lang.impl.current_cfg().real_matrix_scalarize  # switched back after c
 @pytest.mark.parametrize("path", ["graph", "direct"])
 def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
     # a fresh process and kernel cache; Taichi writes the optimised LLVM IR of each kernel it compiles.
-    # Unscalarised, every square root of the law is one 8-wide vector op; a kernel compiled with
-    # Taichi's default (scalarised, then partly re-vectorised by LLVM) has scalar ones and is ~1.3x
-    # slower. The step must compile the kernel once, unscalarised, and run that one
+    # Unscalarised, every square root of the law (G2P) and every floor of a position (both kernels) is
+    # one 8-wide vector op; a kernel compiled with Taichi's default (scalarised, then partly
+    # re-vectorised by LLVM) has scalar ones and is slower (G2P ~1.3x). The step must compile each
+    # kernel once, unscalarised, and run that one
     script = tmp_path / "step.py"
     script.write_text(_COMPILE_THE_STEP)
     env = {**os.environ, "TI_OFFLINE_CACHE_FILE_PATH": str(tmp_path / "cache")}
     done = subprocess.run([sys.executable, str(script), path], cwd=tmp_path, env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
-    g2p = [f.read_text() for f in tmp_path.glob("*.ll") if "define void @g2p_density_stress_lanes" in f.read_text()]
-    assert len(g2p) == 1
+    ir = [f.read_text() for f in tmp_path.glob("*.ll")]
+    g2p = [text for text in ir if "define void @g2p_density_stress_lanes" in text]
+    p2g = [text for text in ir if "define void @p2g_scatter_lanes" in text]
+    assert len(g2p) == 1 and len(p2g) == 1
     assert "@llvm.sqrt.v8f32" in g2p[0] and "@llvm.sqrt.f32(" not in g2p[0]
+    assert "@llvm.floor.v8f32" in p2g[0] and "@llvm.floor.f32(" not in p2g[0]
 
 
 def test_wheel_run_follows_the_one_point_run():

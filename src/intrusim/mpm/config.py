@@ -282,8 +282,9 @@ class BackendConfig(_Model):
     )
     simd_lanes: bool = Field(
         True,
-        description="CPU: the G2P kernel (velocity, position, density, stress) computes 8 points at "
-        "once as vectors (SIMD); False: one point per loop iteration (the reference; a GPU's always)",
+        description="CPU: the G2P kernel (velocity, position, density, stress) and the chunked P2G "
+        "compute 8 points at once as vectors (SIMD); False: one point per loop iteration (the "
+        "reference; a GPU's always)",
     )
 
 

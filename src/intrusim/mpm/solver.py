@@ -26,7 +26,7 @@ from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
-from .transfer import g2p_kernel, g2p_lanes_kernel, p2g_args, p2g_kernel
+from .transfer import g2p_kernel, g2p_lanes_kernel, p2g_args, p2g_kernel, p2g_scatter_lanes
 from . import io as mpm_io
 from intrusim._checks import InputError
 
@@ -90,8 +90,8 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        self._g2p_lanes = backend.arch == "cpu" and cfg.backend.simd_lanes
-        g2p = g2p_lanes_kernel if self._g2p_lanes else g2p_kernel
+        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes  # G2P and the chunked P2G vectorised
+        g2p = g2p_lanes_kernel if self._lanes else g2p_kernel
         self._g2p = g2p(self.material.taichi_update, len(self.material.params))
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
@@ -117,7 +117,9 @@ class Solver:
         """The kernels of one step in order (SPEC 1 recipe, steps 1-6), for these obstacles."""
         g, p, dt = self.grid, self.particles, self.dt
         launches = [
-            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None), p2g_args(p, g, dt)),  # 1. P2G (copies left zeroed by 2.)
+            # 1. P2G (copies left zeroed by 2.)
+            Launch(p2g_scatter_lanes, p2g_args(p, g, dt), unscalarized=True) if self._lanes and g.chunks > 1
+            else Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None), p2g_args(p, g, dt)),
             Launch(grid_update, (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
                 g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale,
@@ -131,7 +133,7 @@ class Solver:
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
-        ), unscalarized=self._g2p_lanes))
+        ), unscalarized=self._lanes))
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2

@@ -133,6 +133,66 @@ def _make_p2g_kernel(mode: int):
 _P2G_KERNELS = {mode: _make_p2g_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
 
 
+@ti.func
+def p2g_lanes_records(p0, last, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
+                      vol: ti.template(), sigma: ti.template(), nx, ny, h, pad, dt):
+    """:func:`scatter_point`'s arithmetic for the LANES points from p0 (their index capped at ``last``),
+    each quantity a vector over the lanes: the stencil's base node per axis (as floats) and, per node
+    (a, b) of the 3 x 3 stencil, the record (w m v_x, w m v_z, w m) it receives."""
+    inv_h = 1.0 / h
+    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 0) * inv_h + pad, nx)
+    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 1) * inv_h + pad, ny)
+    mp = lanes_of(mass, p0, last)
+    kv = dt * lanes_of(vol, p0, last) * 4.0 * inv_h * inv_h
+    # affine = m_p C_p - dt V_p (4/h^2) sigma_p ;  q0 = m_p v_p - h affine f ;  ca, cb = h affine[:, 0], h affine[:, 1]
+    a00 = mp * lanes_of_mat(C, p0, last, 0, 0) - kv * lanes_of_mat(sigma, p0, last, 0, 0)
+    a01 = mp * lanes_of_mat(C, p0, last, 0, 1) - kv * lanes_of_mat(sigma, p0, last, 0, 1)
+    a10 = mp * lanes_of_mat(C, p0, last, 1, 0) - kv * lanes_of_mat(sigma, p0, last, 1, 0)
+    a11 = mp * lanes_of_mat(C, p0, last, 1, 1) - kv * lanes_of_mat(sigma, p0, last, 1, 1)
+    q0x = mp * lanes_of_vec(v, p0, last, 0) - h * (a00 * f0 + a01 * f1)
+    q0z = mp * lanes_of_vec(v, p0, last, 1) - h * (a10 * f0 + a11 * f1)
+    cax, caz, cbx, cbz = h * a00, h * a10, h * a01, h * a11
+    qa = [(q0x + a * cax, q0z + a * caz) for a in ti.static(range(3))]
+    records = [(w0[a] * w1[b] * (qa[a][0] + b * cbx), w0[a] * w1[b] * (qa[a][1] + b * cbz), w0[a] * w1[b] * mp)
+               for a in ti.static(range(3)) for b in ti.static(range(3))]
+    return b0, b1, records
+
+
+@ti.kernel
+def p2g_scatter_lanes(
+    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+    gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
+    scale: float,
+):
+    """The chunked P2G of :func:`p2g_kernel` (the CPU's), its arithmetic vectorised over LANES points
+    (compiled unscalarised, as ``g2p_lanes_kernel``). Each chunk's points are still added to its copy
+    one after the other, in point order; ``scale`` is unused (the chunks' sums are float)."""
+    n = x.shape[0]
+    nc = box.shape[0]
+    ti.loop_config(serialize=backend.SERIAL_LOOPS)
+    for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside (see p2g_kernel)
+        if q % CHUNK_SPREAD == 0:
+            c = q // CHUNK_SPREAD
+            start, end = c * n // nc, (c + 1) * n // nc
+            lo0, lo1, hi0, hi1 = nx, ny, 0, 0
+            for blk in range((end - start + LANES - 1) // LANES):
+                p0 = start + blk * LANES
+                b0, b1, records = p2g_lanes_records(p0, end - 1, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+                for k in ti.static(range(LANES)):
+                    if p0 + k < end:
+                        i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
+                        first = copy_record(c, i, j, nx, ny)
+                        for a in ti.static(range(3)):
+                            for b in ti.static(range(3)):
+                                r = first + (a * ny + b) * 3
+                                for e in ti.static(range(3)):
+                                    gmp[r + e] = gmp[r + e] + records[a * 3 + b][e][k]
+                        lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
+                        hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
+            box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo0, hi0, lo1, hi1
+
+
 def p2g_args(particles, grid, dt: float) -> tuple:
     """Arguments of :func:`p2g_kernel` for these particles and grid."""
     p = particles
