@@ -179,7 +179,12 @@ def time_alternating(solvers: dict, min_time: float = 2.0, rounds: int = 5) -> d
             solver.step()
     _sync()
     per_step = time_steps(next(iter(solvers.values())), min_time / 3)
-    n = max(10, int(min_time / (rounds * len(solvers) * per_step)))  # steps per round
+    return alternate_rounds(solvers, max(10, int(min_time / (rounds * len(solvers) * per_step))), rounds)
+
+
+def alternate_rounds(solvers: dict, n: int, rounds: int) -> dict:
+    """Best seconds per step of each solver over ``rounds`` rounds of ``n`` steps, the solvers taking
+    turns within each round."""
     best = {key: np.inf for key in solvers}
     for _ in range(rounds):
         for key, solver in solvers.items():
@@ -224,15 +229,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
         for _ in range(5):
             solvers[on_device].step()
     _sync()
-    n = max(1, int(round(physical / rounds / solvers[True].dt)))
-    best = {True: float("inf"), False: float("inf")}
-    for _ in range(rounds):
-        for on_device, solver in solvers.items():
-            t0 = time.perf_counter()
-            for _ in range(n):
-                solver.step()
-            _sync()
-            best[on_device] = min(best[on_device], (time.perf_counter() - t0) / n)
+    best = alternate_rounds(solvers, max(1, int(round(physical / rounds / solvers[True].dt))), rounds)
     solver = solvers[True]
     return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": best[True] * 1e3,
             "wall_s_per_physical_s": best[True] / solver.dt, "host_body_ms_per_step": best[False] * 1e3}

@@ -18,7 +18,7 @@ from intrusim.mpm.backend import ensure_initialized, unscalarized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import DruckerPragerSeparation, material_from_config
 from intrusim.mpm.solver import Solver
-from intrusim.mpm.transfer import LANES, g2p_kernel, g2p_lanes_kernel, p2g_kernel, p2g_scatter_lanes
+from intrusim.mpm.transfer import LANES, g2p_kernel, p2g_kernel
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 
@@ -68,7 +68,7 @@ def _g2p(material, state: dict, lanes: bool) -> dict:
     args = [arrs[k] for k in order] + [H, PAD, DT, material.params, 1.0 / 300.0]
     if lanes:
         with unscalarized():
-            g2p_lanes_kernel(material.taichi_update, len(material.params))(*args)
+            g2p_kernel(material.taichi_update, len(material.params), lanes=True)(*args)
     else:
         g2p_kernel(material.taichi_update, len(material.params))(*args)
     return {k: arrs[k].to_numpy() for k in order[:-1]}
@@ -120,7 +120,7 @@ def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]
     args = [arrs[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [copies, box, NX, NZ, H, PAD, DT, 1.0]
     if lanes:
         with unscalarized():
-            p2g_scatter_lanes(*args)
+            p2g_kernel(chunked=True, lanes=True)(*args)
     else:
         p2g_kernel(chunked=True)(*args)
     return copies.to_numpy().reshape(chunks, NX, NZ, 3), box.to_numpy()
@@ -196,8 +196,8 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
     done = subprocess.run([sys.executable, str(script), path], cwd=tmp_path, env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
     ir = [f.read_text() for f in tmp_path.glob("*.ll")]
-    g2p = [text for text in ir if "define void @g2p_density_stress_lanes" in text]
-    p2g = [text for text in ir if "define void @p2g_scatter_lanes" in text]
+    g2p = [text for text in ir if "define void @g2p_density_stress" in text]
+    p2g = [text for text in ir if "define void @p2g_scatter" in text]
     assert len(g2p) == 1 and len(p2g) == 1
     assert "@llvm.sqrt.v8f32" in g2p[0] and "@llvm.sqrt.f32(" not in g2p[0]
     assert "@llvm.floor.v8f32" in p2g[0] and "@llvm.floor.f32(" not in p2g[0]

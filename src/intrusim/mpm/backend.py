@@ -117,7 +117,7 @@ def unscalarized():
     option off a vector of 8 floats is one LLVM vector, i.e. SIMD code on the CPU. The option is
     global and read when a kernel compiles (and when a call looks up its compiled kernel), so it is
     switched for those moments only: most kernels do not compile without it (Taichi 1.7 rejects a
-    unary minus or a cast on such a vector). See ``transfer.g2p_lanes_kernel``.
+    unary minus or a cast on such a vector). See ``transfer.g2p_kernel(..., lanes=True)``.
     """
     cfg = ti.lang.impl.current_cfg()
     before = cfg.real_matrix_scalarize

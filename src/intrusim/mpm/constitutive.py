@@ -68,7 +68,7 @@ def _make_update(yield_return):
 
     ``components`` has no branches (every case is computed and ``ti.select`` keeps one), so its
     arguments may be scalars (one point) or equal-length vectors (one point per lane, the CPU's
-    vectorised G2P, ``transfer.g2p_lanes_kernel``); the values it selects are those of the branches.
+    vectorised G2P, ``transfer.g2p_kernel(..., lanes=True)``); the values it selects are those of the branches.
     It writes a negation as ``0.0 - x`` (Taichi does not compile a unary minus on an unscalarised
     vector).
     """

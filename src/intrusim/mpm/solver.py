@@ -26,7 +26,7 @@ from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
-from .transfer import g2p_kernel, g2p_lanes_kernel, p2g_args, p2g_kernel, p2g_scatter_lanes
+from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
 
@@ -91,8 +91,7 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes  # G2P and the chunked P2G vectorised
-        g2p = g2p_lanes_kernel if self._lanes else g2p_kernel
-        self._g2p = g2p(self.material.taichi_update, len(self.material.params))
+        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, and its graph once compiled
@@ -116,10 +115,10 @@ class Solver:
     def _launches(self, active: tuple[bool, ...]) -> list[Launch]:
         """The kernels of one step in order (SPEC 1 recipe, steps 1-6), for these obstacles."""
         g, p, dt = self.grid, self.particles, self.dt
+        lanes = self._lanes and g.chunks > 1  # the vectorised P2G is the chunked one
         launches = [
             # 1. P2G (copies left zeroed by 2.)
-            Launch(p2g_scatter_lanes, p2g_args(p, g, dt), unscalarized=True) if self._lanes and g.chunks > 1
-            else Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None), p2g_args(p, g, dt)),
+            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes), p2g_args(p, g, dt), unscalarized=lanes),
             Launch(grid_update, (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
                 g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale,

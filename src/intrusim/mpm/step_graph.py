@@ -37,7 +37,7 @@ class Var:
 class Launch:
     """One kernel launch: a Taichi kernel (no ``ti.template()`` parameters) and its arguments.
 
-    ``unscalarized``: the kernel computes on vectors over points (``transfer.g2p_lanes_kernel``) and
+    ``unscalarized``: the kernel computes on vectors over points (``transfer.g2p_kernel(..., lanes=True)``) and
     is compiled without Taichi's scalarisation of vectors (``backend.unscalarized``).
     """
 

@@ -76,17 +76,21 @@ def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.t
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
-def p2g_kernel(chunked: bool, fixed: bool = False):
+def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False):
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
-    one compiled kernel each.
+    one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
+    (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
     ``ti.graph`` (see step_graph), which takes no template parameters.
     """
-    return _P2G_KERNELS[sum_mode(chunked, fixed)]
+    mode = sum_mode(chunked, fixed)
+    if lanes and mode != PLAIN:
+        raise ValueError("the vectorised P2G is the chunked one (private copies, no atomics)")
+    return _P2G_KERNELS[(mode, lanes)]
 
 
-def _make_p2g_kernel(mode: int):
+def _make_p2g_kernel(mode: int, lanes: bool):
     chunked = mode == PLAIN
 
     @ti.kernel
@@ -113,13 +117,18 @@ def _make_p2g_kernel(mode: int):
             for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
                 if q % CHUNK_SPREAD == 0:
                     c = q // CHUNK_SPREAD
-                    lo = ti.Vector([nx, ny])
-                    hi = ti.Vector([0, 0])
-                    for p in range(c * n // nc, (c + 1) * n // nc):
-                        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale)
-                        lo = ti.min(lo, base)
-                        hi = ti.max(hi, base + 3)
-                    box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
+                    start, end = c * n // nc, (c + 1) * n // nc
+                    if ti.static(lanes):
+                        box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_lanes(
+                            c, start, end, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
+                    else:
+                        lo = ti.Vector([nx, ny])
+                        hi = ti.Vector([0, 0])
+                        for p in range(start, end):
+                            base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale)
+                            lo = ti.min(lo, base)
+                            hi = ti.max(hi, base + 3)
+                        box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
@@ -130,7 +139,8 @@ def _make_p2g_kernel(mode: int):
     return p2g_scatter
 
 
-_P2G_KERNELS = {mode: _make_p2g_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
+_P2G_KERNELS = {(mode, False): _make_p2g_kernel(mode, False) for mode in (PLAIN, ATOMIC, FIXED)}
+_P2G_KERNELS[(PLAIN, True)] = _make_p2g_kernel(PLAIN, True)
 
 
 @ti.func
@@ -158,39 +168,27 @@ def p2g_lanes_records(p0, last, x: ti.template(), v: ti.template(), C: ti.templa
     return b0, b1, records
 
 
-@ti.kernel
-def p2g_scatter_lanes(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-    mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-    gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
-    scale: float,
-):
-    """The chunked P2G of :func:`p2g_kernel` (the CPU's), its arithmetic vectorised over LANES points
-    (compiled unscalarised, as ``g2p_lanes_kernel``). Each chunk's points are still added to its copy
-    one after the other, in point order; ``scale`` is unused (the chunks' sums are float)."""
-    n = x.shape[0]
-    nc = box.shape[0]
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside (see p2g_kernel)
-        if q % CHUNK_SPREAD == 0:
-            c = q // CHUNK_SPREAD
-            start, end = c * n // nc, (c + 1) * n // nc
-            lo0, lo1, hi0, hi1 = nx, ny, 0, 0
-            for blk in range((end - start + LANES - 1) // LANES):
-                p0 = start + blk * LANES
-                b0, b1, records = p2g_lanes_records(p0, end - 1, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
-                for k in ti.static(range(LANES)):
-                    if p0 + k < end:
-                        i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
-                        first = copy_record(c, i, j, nx, ny)
-                        for a in ti.static(range(3)):
-                            for b in ti.static(range(3)):
-                                r = first + (a * ny + b) * 3
-                                for e in ti.static(range(3)):
-                                    gmp[r + e] = gmp[r + e] + records[a * 3 + b][e][k]
-                        lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
-                        hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
-            box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo0, hi0, lo1, hi1
+@ti.func
+def scatter_chunk_lanes(c, start, end, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
+                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt):
+    """Points [start, end) into grid copy c, LANES at a time (:func:`p2g_lanes_records`), each point's
+    9 records still added one after the other in point order; returns the node box (i0, i1, j0, j1)."""
+    lo0, lo1, hi0, hi1 = nx, ny, 0, 0
+    for blk in range((end - start + LANES - 1) // LANES):
+        p0 = start + blk * LANES
+        b0, b1, records = p2g_lanes_records(p0, end - 1, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+        for k in ti.static(range(LANES)):
+            if p0 + k < end:  # the last block's missing lanes repeat the chunk's last point
+                i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
+                first = copy_record(c, i, j, nx, ny)
+                for a in ti.static(range(3)):
+                    for b in ti.static(range(3)):
+                        r = first + (a * ny + b) * 3
+                        for e in ti.static(range(3)):
+                            gmp[r + e] = gmp[r + e] + records[a * 3 + b][e][k]
+                lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
+                hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
+    return lo0, hi0, lo1, hi1
 
 
 def p2g_args(particles, grid, dt: float) -> tuple:
@@ -245,48 +243,7 @@ def exp_near_zero(x):
     return r
 
 
-_G2P_KERNELS: dict = {}
-
-
-def g2p_kernel(stress_update, n_params: int = 4):
-    """G2P + density + stress kernel for a material ``ti.func`` taking ``n_params`` parameters
-    (one compiled kernel per law and parameter count).
-
-    The stages are fused in one pass over the points to read and write each point once:
-    G2P (velocity, position, velocity gradient), density v_p *= exp(dt tr L), stress update.
-    The volume stops growing at m_p / rho_floor: a point alone in its stencil gets back its own
-    affine velocity field from the grid, so in flight it keeps the velocity gradient it left the
-    bed with, and exp(dt tr L) would grow without bound (float overflow, then NaN; seen at 150 RPM
-    on the runner, docs/mpm.md).
-    """
-    if (stress_update, n_params) in _G2P_KERNELS:
-        return _G2P_KERNELS[(stress_update, n_params)]
-
-    @ti.kernel
-    def g2p_density_stress(
-        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-        s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
-    ):
-        ti.loop_config(serialize=backend.SERIAL_LOOPS)
-        for p in range(x.shape[0]):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
-            new_v, L = g2p_point(x[p], gv, h, pad)
-            v[p] = new_v
-            C[p] = L
-            x[p] += dt * new_v
-            vol[p] = ti.min(vol[p] * exp_near_zero(dt * L.trace()), mass[p] * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
-            sig, syy, dgamma = stress_update(sigma[p], s_yy[p], L, mass[p] / vol[p], dt, prm)
-            sigma[p] = sig
-            s_yy[p] = syy
-            eps_p[p] += dgamma
-            gdot_p[p] = dgamma / dt
-
-    _G2P_KERNELS[(stress_update, n_params)] = g2p_density_stress
-    return g2p_density_stress
-
-
-LANES = 8  # points per iteration of the vectorised G2P (one AVX register of f32, two of SSE)
+LANES = 8  # points per iteration of the vectorised G2P and P2G (8 f32: two SSE registers, Taichi's CPU target)
 
 
 @ti.func
@@ -360,58 +317,80 @@ def exp_near_zero_lanes(x):
     return r
 
 
-_G2P_LANES_KERNELS: dict = {}
+_G2P_KERNELS: dict = {}
 
 
-def g2p_lanes_kernel(stress_update, n_params: int = 4):
-    """The G2P + density + stress kernel of :func:`g2p_kernel`, vectorised over LANES points: the CPU's.
+def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
+    """G2P + density + stress kernel for a material ``ti.func`` taking ``n_params`` parameters
+    (one compiled kernel per law, parameter count and form).
 
-    Taichi's CPU backend emits scalar code for a loop over points (it does not vectorise across
-    iterations: an ndarray index is linearised in 32-bit arithmetic that LLVM cannot prove
-    consecutive). Here each iteration takes LANES consecutive points and every per-point quantity
-    is a vector over them, so the arithmetic is SIMD; the grid reads and the stores stay per lane.
-    The law is ``stress_update.components`` (branch-free, see ``constitutive._make_update``).
+    The stages are fused in one pass over the points to read and write each point once:
+    G2P (velocity, position, velocity gradient), density v_p *= exp(dt tr L), stress update.
+    The volume stops growing at m_p / rho_floor: a point alone in its stencil gets back its own
+    affine velocity field from the grid, so in flight it keeps the velocity gradient it left the
+    bed with, and exp(dt tr L) would grow without bound (float overflow, then NaN; seen at 150 RPM
+    on the runner, docs/mpm.md).
 
-    Must be compiled with Taichi's ``real_matrix_scalarize`` off (``backend.unscalarized``; the step
-    does it, see ``step_graph.Launch.unscalarized``): otherwise Taichi splits the vectors back into
-    scalars. The last block's missing lanes repeat the last point and are not stored.
+    ``lanes`` (the CPU's): vectorised over LANES points. Taichi's CPU backend emits scalar code for
+    a loop over points (it does not vectorise across iterations: an ndarray index is linearised in
+    32-bit arithmetic that LLVM cannot prove consecutive). With ``lanes`` each iteration takes LANES
+    consecutive points and every per-point quantity is a vector over them, so the arithmetic is SIMD;
+    the grid reads and the stores stay per lane, and the law is ``stress_update.components``
+    (branch-free, see ``constitutive._make_update``). Such a kernel must be compiled with Taichi's
+    ``real_matrix_scalarize`` off (``backend.unscalarized``; the step does it, see
+    ``step_graph.Launch.unscalarized``), otherwise Taichi splits the vectors back into scalars. The
+    last block's missing lanes repeat the last point and are not stored.
     """
-    key = (stress_update, n_params)
-    if key in _G2P_LANES_KERNELS:
-        return _G2P_LANES_KERNELS[key]
+    key = (stress_update, n_params, lanes)
+    if key in _G2P_KERNELS:
+        return _G2P_KERNELS[key]
     law = stress_update.components
 
     @ti.kernel
-    def g2p_density_stress_lanes(
+    def g2p_density_stress(
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
         gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
     ):
         n = x.shape[0]
-        ti.loop_config(serialize=backend.SERIAL_LOOPS)
-        for blk in range((n + LANES - 1) // LANES):
-            p0 = blk * LANES
-            x0, x1 = lanes_of_vec(x, p0, n - 1, 0), lanes_of_vec(x, p0, n - 1, 1)
-            v0, v1, l00, l01, l10, l11 = g2p_lanes(x0, x1, gv, h, pad)
-            m = lanes_of(mass, p0, n - 1)
-            # v_p *= exp(dt tr D), <= m_p / rho_floor
-            vp = ti.min(lanes_of(vol, p0, n - 1) * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
-            t_xx, t_zz, t_xz, t_yy, dgamma = law(
-                lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1),
-                lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1),
-                l00, l01, l10, l11, m / vp, dt, prm)
-            for k in ti.static(range(LANES)):
-                p = p0 + k
-                if p < n:
-                    v[p] = ti.Vector([v0[k], v1[k]])
-                    C[p] = ti.Matrix([[l00[k], l01[k]], [l10[k], l11[k]]])
-                    x[p] = ti.Vector([x0[k] + dt * v0[k], x1[k] + dt * v1[k]])
-                    vol[p] = vp[k]
-                    sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
-                    s_yy[p] = t_yy[k]
-                    eps_p[p] += dgamma[k]
-                    gdot_p[p] = dgamma[k] / dt
+        if ti.static(not lanes):
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for p in range(n):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
+                new_v, L = g2p_point(x[p], gv, h, pad)
+                v[p] = new_v
+                C[p] = L
+                x[p] += dt * new_v
+                vol[p] = ti.min(vol[p] * exp_near_zero(dt * L.trace()), mass[p] * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
+                sig, syy, dgamma = stress_update(sigma[p], s_yy[p], L, mass[p] / vol[p], dt, prm)
+                sigma[p] = sig
+                s_yy[p] = syy
+                eps_p[p] += dgamma
+                gdot_p[p] = dgamma / dt
+        else:
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for blk in range((n + LANES - 1) // LANES):
+                p0 = blk * LANES
+                x0, x1 = lanes_of_vec(x, p0, n - 1, 0), lanes_of_vec(x, p0, n - 1, 1)
+                v0, v1, l00, l01, l10, l11 = g2p_lanes(x0, x1, gv, h, pad)
+                m = lanes_of(mass, p0, n - 1)
+                # v_p *= exp(dt tr D), <= m_p / rho_floor
+                vp = ti.min(lanes_of(vol, p0, n - 1) * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
+                t_xx, t_zz, t_xz, t_yy, dgamma = law(
+                    lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1),
+                    lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1),
+                    l00, l01, l10, l11, m / vp, dt, prm)
+                for k in ti.static(range(LANES)):
+                    p = p0 + k
+                    if p < n:
+                        v[p] = ti.Vector([v0[k], v1[k]])
+                        C[p] = ti.Matrix([[l00[k], l01[k]], [l10[k], l11[k]]])
+                        x[p] = ti.Vector([x0[k] + dt * v0[k], x1[k] + dt * v1[k]])
+                        vol[p] = vp[k]
+                        sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
+                        s_yy[p] = t_yy[k]
+                        eps_p[p] += dgamma[k]
+                        gdot_p[p] = dgamma[k] / dt
 
-    _G2P_LANES_KERNELS[key] = g2p_density_stress_lanes
-    return g2p_density_stress_lanes
+    _G2P_KERNELS[key] = g2p_density_stress
+    return g2p_density_stress
