@@ -115,7 +115,7 @@ def test_a_point_count_below_one_block():
 def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]:
     """The chunked P2G of ``state`` into ``chunks`` grid copies: (copies, each copy's node box)."""
     arrs = _arrays(state)
-    copies = ti.ndarray(ti.f32, shape=chunks * NX * NZ * 3)
+    copies = ti.Vector.ndarray(3, ti.f32, shape=chunks * NX * NZ)
     box = ti.ndarray(ti.i32, shape=(chunks, 4))
     args = [arrs[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [copies, box, NX, NZ, H, PAD, DT, 1.0]
     if lanes:

@@ -278,7 +278,7 @@ class FluidityField:
             raise ValueError("chunked sources sum in a fixed order already: no fixed point")
         self.fixed_scale = None if fixed_scale is None else float(fixed_scale)  # one copy of 64-bit integers
         copies = SOURCE_CHUNKS if self.chunked else 1  # private copies (CPU) or one with atomic adds (GPU)
-        # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy, as Grid.mp_parts (grid.copy_record)
+        # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy (grid.copy_record)
         dtype = real if self.fixed_scale is None else ti.i64
         self.parts = ti.ndarray(dtype, shape=copies * self.shape[0] * self.shape[1] * 3)
         self.parts.fill(0)  # the sources' kernel leaves them zeroed after each step

@@ -30,8 +30,8 @@ class Grid:
         if not 1 <= self.chunks <= 31:
             raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")
         # P2G targets: one private copy per chunk of points (CPU), summed in the grid update
-        # (momentum x, momentum z, mass) per node: one 12-byte record per scatter target, all
-        # copies in one flat array (see copy_record)
+        # (momentum x, momentum z, mass) per node: one 3-vector record per scatter target, all
+        # copies in one array (see record_index); a record is read and written as one vector
         # fixed_density (one copy, atomic adds): the records are 64-bit integers, value * fixed_scale
         # with the scale of a node's mass fixed_density h^2, so that atomic sums are exact and do not
         # depend on their order (see fixed_point_scale)
@@ -42,7 +42,7 @@ class Grid:
             self.fixed_scale = fixed_point_scale(fixed_density * self.h * self.h)
         self.inv_scale = 1.0 if self.fixed_scale is None else 1.0 / self.fixed_scale
         dtype = real if self.fixed_scale is None else ti.i64
-        self.mp_parts = ti.ndarray(dtype, shape=self.chunks * self.shape[0] * self.shape[1] * 3)  # kg/s, kg/m
+        self.mp_parts = ti.Vector.ndarray(3, dtype, shape=self.chunks * self.shape[0] * self.shape[1])  # kg/s, kg/m
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
@@ -59,9 +59,16 @@ class Grid:
 
 
 @ti.func
-def copy_record(c, i, j, nx, ny):
+def record_index(c, i, j, nx, ny):
     """Index in ``Grid.mp_parts`` of node (i, j)'s record (m v_x, m v_z, m) in P2G copy c (nx x ny nodes)."""
-    return ((c * nx + i) * ny + j) * 3
+    return (c * nx + i) * ny + j
+
+
+@ti.func
+def copy_record(c, i, j, nx, ny):
+    """Index of the first float of node (i, j)'s 3-float record in copy c of a flat array of records
+    (the fluidity sources' copies)."""
+    return record_index(c, i, j, nx, ny) * 3
 
 
 @ti.func
@@ -130,11 +137,11 @@ def grid_update(
         mask = col_mask[i, 0]
         for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
             if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
-                k = copy_record(c, i, j, nx, ny)
-                # float: the backend's real type (a no-op on real copies)
-                pi += ti.Vector([ti.cast(mp_parts[k], float), ti.cast(mp_parts[k + 1], float)]) * inv_scale
-                mi += ti.cast(mp_parts[k + 2], float) * inv_scale
-                mp_parts[k], mp_parts[k + 1], mp_parts[k + 2] = 0, 0, 0
+                k = record_index(c, i, j, nx, ny)
+                rec = mp_parts[k]  # float: the backend's real type (a no-op on real copies)
+                pi += ti.Vector([ti.cast(rec[0], float), ti.cast(rec[1], float)]) * inv_scale
+                mi += ti.cast(rec[2], float) * inv_scale
+                mp_parts[k][0], mp_parts[k][1], mp_parts[k][2] = 0, 0, 0
         m[i, j] = mi
         vi = ti.Vector([0.0, 0.0])
         if mi > 0.0:

@@ -11,7 +11,7 @@ import taichi as ti
 
 from . import backend
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .grid import copy_record
+from .grid import record_index
 
 
 @ti.func
@@ -31,8 +31,8 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
-    ``gmp`` is the flat array of the grid copies (``grid.copy_record``); the stencil's first
-    record is addressed once per point and the other 8 at fixed offsets from it (P2G 1.2-1.6x
+    ``gmp`` is the array of the grid copies' 3-vector records (``grid.record_index``); the stencil's
+    first record is addressed once per point and the other 8 at fixed offsets from it (P2G 1.2-1.6x
     faster on 2 threads than a 3-index address per node, same sums: docs/performance.md).
     ``mode``: PLAIN read-modify-write (one loop iteration owns copy ``c``), ATOMIC float adds
     (several threads share copy ``c``), or FIXED: atomic adds of round(value * ``scale``) into 64-bit
@@ -47,7 +47,7 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     q0 = mp * v[p] - h * (affine @ fx)
     ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
     cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
-    first = copy_record(c, base[0], base[1], nx, ny)
+    first = record_index(c, base[0], base[1], nx, ny)
     if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
         if (ti.math.isnan(q0).any() or ti.math.isinf(q0).any()
                 or ti.math.isnan(affine).any() or ti.math.isinf(affine).any()):
@@ -61,16 +61,13 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
 
 @ti.func
 def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.template(), scale):
-    """(m v, m) += w_ab (q0 + a ca + b cb, m_p) into the 3 x 3 records from ``first``."""
+    """(m v, m) += w_ab (q0 + a ca + b cb, m_p) into the 3 x 3 records from ``first`` (one vector add each)."""
     for a in ti.static(range(3)):
         qa = q0 + a * ca
         for b in ti.static(range(3)):
             weight = w[a][0] * w[b][1]
             q = qa + b * cb
-            k = first + (a * ny + b) * 3
-            dq = ti.Vector([weight * q[0], weight * q[1], weight * mp])
-            for e in ti.static(range(3)):
-                scatter_add(gmp, k + e, dq[e], mode, scale)
+            scatter_add(gmp, first + a * ny + b, ti.Vector([weight * q[0], weight * q[1], weight * mp]), mode, scale)
 
 
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
@@ -100,7 +97,7 @@ def _make_p2g_kernel(mode: int, lanes: bool):
         gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
         scale: float,
     ):
-        """P2G into the grid copies ``gmp`` (flat, see scatter_point; a grid of nx x ny nodes);
+        """P2G into the grid copies ``gmp`` (3-vector records, see scatter_point; a grid of nx x ny nodes);
         ``box[c]`` = node box [i0, i1, j0, j1) copy c received.
 
         Chunked (CPU): one private copy per chunk of points, no atomics, fixed summation order.
@@ -180,12 +177,11 @@ def scatter_chunk_lanes(c, start, end, x: ti.template(), v: ti.template(), C: ti
         for k in ti.static(range(LANES)):
             if p0 + k < end:  # the last block's missing lanes repeat the chunk's last point
                 i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
-                first = copy_record(c, i, j, nx, ny)
+                first = record_index(c, i, j, nx, ny)
                 for a in ti.static(range(3)):
                     for b in ti.static(range(3)):
-                        r = first + (a * ny + b) * 3
-                        for e in ti.static(range(3)):
-                            gmp[r + e] = gmp[r + e] + records[a * 3 + b][e][k]
+                        r, rec = first + a * ny + b, records[a * 3 + b]
+                        gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k]])  # one vector load and store
                 lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
                 hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
     return lo0, hi0, lo1, hi1
