@@ -115,9 +115,12 @@ def unscalarized():
 
     Taichi splits every vector and matrix into scalars before code generation by default; with the
     option off a vector of 8 floats is one LLVM vector, i.e. SIMD code on the CPU. The option is
-    global and read when a kernel compiles (and when a call looks up its compiled kernel), so it is
-    switched for those moments only: most kernels do not compile without it (Taichi 1.7 rejects a
-    unary minus or a cast on such a vector). See ``transfer.g2p_kernel(..., lanes=True)``.
+    global and read when a kernel compiles, so it is switched for that moment only: most kernels do
+    not compile without it (Taichi 1.7 rejects a unary minus or a cast on such a vector). Taichi's
+    key for a compiled kernel (in memory and in its offline cache on disk) leaves the option out, so
+    whichever form is compiled first is the one every later call and graph runs: a kernel meant to
+    run unscalarised must be compiled under this switch the first time (``step_graph`` does it). See
+    ``transfer.g2p_kernel(..., lanes=True)``.
     """
     cfg = ti.lang.impl.current_cfg()
     before = cfg.real_matrix_scalarize
