@@ -141,6 +141,12 @@ def test_chunked_p2g_matches_the_one_point_kernel(chunks):
         np.testing.assert_allclose(b[..., e], a[..., e], rtol=0, atol=2e-6 * np.abs(a[..., e]).max(), err_msg=name)
 
 
+def test_the_vectorised_p2g_is_only_the_chunked_one():
+    for chunked, fixed in ((False, False), (False, True)):  # a GPU's atomic adds: one point per iteration
+        with pytest.raises(ValueError, match="chunked"):
+            p2g_kernel(chunked, fixed, lanes=True)
+
+
 def test_unscalarized_restores_the_config_on_error():
     ensure_initialized(precision="f32")
     cfg = ti.lang.impl.current_cfg()
