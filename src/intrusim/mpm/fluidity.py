@@ -34,7 +34,8 @@ import taichi as ti
 from . import backend
 from .grid import copy_record, union_box
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .transfer import CHUNK_SPREAD, quadratic_weights
+from .transfer import (CHUNK_SPREAD, LANES, any_lane, lane_flags, lanes_of, lanes_of_mat, lanes_of_vec,
+                       quadratic_weights, quadratic_weights_lanes)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -45,9 +46,16 @@ SOURCE_CHUNKS = 4  # private grid copies of the fluidity sources: a fixed summat
 @ti.func
 def _pressure_and_tau(sig, syy):
     """P = -tr(T)/3 (3D trace) and tau = sqrt(T':T'/2) of a plane-strain stress."""
-    p = -(sig[0, 0] + sig[1, 1] + syy) / 3.0
-    a_xx, a_zz, a_yy = sig[0, 0] + p, sig[1, 1] + p, syy + p
-    tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * sig[0, 1] * sig[0, 1]))
+    return pressure_and_tau(sig[0, 0], sig[1, 1], sig[0, 1], syy)
+
+
+@ti.func
+def pressure_and_tau(s_xx, s_zz, s_xz, s_yy):
+    """:func:`_pressure_and_tau` on the components (scalars, or vectors over points: ``0.0 - x``, as
+    Taichi does not compile a unary minus on an unscalarised vector)."""
+    p = (0.0 - (s_xx + s_zz + s_yy)) / 3.0
+    a_xx, a_zz, a_yy = s_xx + p, s_zz + p, s_yy + p
+    tau = ti.sqrt(0.5 * (a_xx * a_xx + a_zz * a_zz + a_yy * a_yy + 2.0 * s_xz * s_xz))
     return p, tau
 
 
@@ -226,44 +234,87 @@ def relaxed_tau(tau_t, p, excess, dt, prm):
     With k = G dt / P, a = k sqrt(P / rho_s) / (d b), e = k excess: below mu_s P the point creeps,
     tau = tau* / (1 + max(e, 0)); above, k gdot_p = a (tau - mu_s P) + e tau, so
     tau = (tau* + a mu_s P) / (1 + a + e), flowing only if that is below tau*.
+    Both cases are computed and ``ti.select`` keeps one, so the arguments may be scalars or vectors over
+    points (``fluidity_relax_kernel(lanes=True)``).
     """
     shear_modulus, mu_s, b, d, rho_s = prm[0], prm[1], prm[2], prm[3], prm[4]
     k = shear_modulus * dt / p
     e = k * excess
     a = k * ti.sqrt(p / rho_s) / (d * b)
-    out = tau_t
-    if tau_t <= mu_s * p * (1.0 + ti.max(e, 0.0)):
-        out = tau_t / (1.0 + ti.max(e, 0.0))
-    elif 1.0 + a + e > 0.0:
-        out = ti.min((tau_t + a * mu_s * p) / (1.0 + a + e), tau_t)
-    return out
+    creep = tau_t / (1.0 + ti.max(e, 0.0))
+    flow = ti.min((tau_t + a * mu_s * p) / (1.0 + a + e), tau_t)
+    return ti.select(tau_t <= mu_s * p * (1.0 + ti.max(e, 0.0)), creep, ti.select(1.0 + a + e > 0.0, flow, tau_t))
 
 
-@ti.kernel
-def fluidity_relax(
-    x: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(),
-    gdot_p: ti.types.ndarray(), excess: ti.types.ndarray(), h: float, pad: int, dt: float,
-    prm: ti.types.vector(5, float),
-):
-    """The flow of each stressed point at fixed pressure (:func:`relaxed_tau`), with the nonlocal
-    excess g - g_loc of the nodes (the sweeps' kernel writes it) interpolated at it;
-    dgamma = (tau* - tau) / G. ``prm`` = (G, mu_s, b, d, rho_s)."""
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for p in range(x.shape[0]):
-        sig, syy = sigma[p], s_yy[p]
-        P, tau = _pressure_and_tau(sig, syy)
-        if P > 0.0 and tau > 0.0:
-            base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, excess.shape[0], excess.shape[1])
-            ex = 0.0 * P
-            for a, c in ti.static(ti.ndrange(3, 3)):
-                ex += w[a][0] * w[c][1] * excess[base[0] + a, base[1] + c]
-            scale = relaxed_tau(tau, P, ex, dt, prm) / tau
-            a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
-            sigma[p] = ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]])
-            s_yy[p] = a_yy * scale - P
-            dgamma = tau * (1.0 - scale) / prm[0]
-            eps_p[p] += dgamma
-            gdot_p[p] = dgamma / dt
+def fluidity_relax_kernel(lanes: bool = False):
+    """The relaxation kernel: one point per loop iteration, or (``lanes``, the CPU's) LANES points as
+    vectors, compiled unscalarised as ``transfer.g2p_kernel(..., lanes=True)``."""
+    return _RELAX_KERNELS[bool(lanes)]
+
+
+def _make_relax_kernel(lanes: bool):
+    @ti.kernel
+    def fluidity_relax(
+        x: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(),
+        gdot_p: ti.types.ndarray(), excess: ti.types.ndarray(), h: float, pad: int, dt: float,
+        prm: ti.types.vector(5, float),
+    ):
+        """The flow of each stressed point at fixed pressure (:func:`relaxed_tau`), with the nonlocal
+        excess g - g_loc of the nodes (the sweeps' kernel writes it) interpolated at it;
+        dgamma = (tau* - tau) / G. ``prm`` = (G, mu_s, b, d, rho_s). A point with P <= 0 or tau = 0 is
+        left as it is."""
+        n = x.shape[0]
+        if ti.static(not lanes):
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for p in range(n):
+                sig, syy = sigma[p], s_yy[p]
+                P, tau = _pressure_and_tau(sig, syy)
+                if P > 0.0 and tau > 0.0:
+                    base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, excess.shape[0], excess.shape[1])
+                    ex = 0.0 * P
+                    for a, c in ti.static(ti.ndrange(3, 3)):
+                        ex += w[a][0] * w[c][1] * excess[base[0] + a, base[1] + c]
+                    scale = relaxed_tau(tau, P, ex, dt, prm) / tau
+                    a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
+                    sigma[p] = ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]])
+                    s_yy[p] = a_yy * scale - P
+                    dgamma = tau * (1.0 - scale) / prm[0]
+                    eps_p[p] += dgamma
+                    gdot_p[p] = dgamma / dt
+        else:
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for blk in range((n + LANES - 1) // LANES):
+                p0 = blk * LANES
+                s_xx, s_zz = lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1)
+                s_xz, syy = lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1)
+                P, tau = pressure_and_tau(s_xx, s_zz, s_xz, syy)
+                stressed = lane_flags((P > 0.0) & (tau > 0.0))  # 1.0 / 0.0 (transfer.lane_flags)
+                if any_lane(stressed > 0.0):
+                    inv_h = 1.0 / h
+                    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, n - 1, 0) * inv_h + pad, excess.shape[0])
+                    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, n - 1, 1) * inv_h + pad, excess.shape[1])
+                    i0 = [ti.cast(b0[k], ti.i32) for k in ti.static(range(LANES))]
+                    i1 = [ti.cast(b1[k], ti.i32) for k in ti.static(range(LANES))]
+                    ex = 0.0 * P
+                    for a, c in ti.static(ti.ndrange(3, 3)):
+                        ex += w0[a] * w1[c] * ti.Vector([excess[i0[k] + a, i1[k] + c] for k in ti.static(range(LANES))])
+                    scale = relaxed_tau(tau, P, ex, dt, prm) / tau
+                    dgamma = tau * (1.0 - scale) / prm[0]
+                    t_xx, t_zz, t_yy = (s_xx + P) * scale - P, (s_zz + P) * scale - P, (syy + P) * scale - P
+                    t_xz = s_xz * scale
+                    for k in ti.static(range(LANES)):
+                        p = p0 + k
+                        if p < n and stressed[k] > 0.0:
+                            sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
+                            s_yy[p] = t_yy[k]
+                            eps_p[p] += dgamma[k]
+                            gdot_p[p] = dgamma[k] / dt
+
+    return fluidity_relax
+
+
+_RELAX_KERNELS = {flag: _make_relax_kernel(flag) for flag in (False, True)}
+fluidity_relax = _RELAX_KERNELS[False]
 
 
 class FluidityField:

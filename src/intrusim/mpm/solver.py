@@ -21,7 +21,7 @@ from .contact import PolygonContact
 from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
-from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax, fluidity_sources_kernel
+from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
 from .grid import Grid, grid_update
 from .intruder import Intruder
 from .particles import FIELDS, Particles
@@ -141,8 +141,8 @@ class Solver:
                 f.fixed_scale or 1.0))]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
-            launches.append(Launch(fluidity_relax, (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
-                                                    m.relax_params)))
+            launches.append(Launch(fluidity_relax_kernel(self._lanes), (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
+                                                    m.relax_params), unscalarized=self._lanes))
         return launches
 
     def step(self) -> None:

@@ -304,11 +304,29 @@ def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
 
 
 @ti.func
+def lane_flags(mask):
+    """A lane mask as a vector of 1.0 / 0.0. In an unscalarised kernel (Taichi 1.7.4) a mask's
+    ``.any()`` and its elements read one by one come out false whatever the lanes hold; ``ti.select``
+    on the mask is right, so the mask is read through it."""
+    return ti.select(mask, 1.0, 0.0)
+
+
+@ti.func
+def any_lane(mask) -> bool:
+    """True if any lane of ``mask`` is set (see :func:`lane_flags`)."""
+    flags = lane_flags(mask)
+    total = 0.0
+    for k in ti.static(range(LANES)):
+        total += flags[k]
+    return total > 0.0
+
+
+@ti.func
 def exp_near_zero_lanes(x):
     """:func:`exp_near_zero` on a vector: the polynomial, and ti.exp only when a lane needs it."""
     r = 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0)))))
     far = (x >= 0.01) | (x <= -0.01)  # |x| >= 0.01 (no ti.abs on an unscalarised vector)
-    if far.any():
+    if any_lane(far):
         r = ti.select(far, ti.Vector([ti.exp(x[k]) for k in ti.static(range(LANES))]), r)  # lane by lane
     return r
 
