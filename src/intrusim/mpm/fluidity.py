@@ -34,8 +34,8 @@ import taichi as ti
 from . import backend
 from .grid import copy_record, union_box
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .transfer import (CHUNK_SPREAD, LANES, any_lane, lane_flags, lanes_of, lanes_of_mat, lanes_of_vec,
-                       quadratic_weights, quadratic_weights_lanes)
+from .transfer import (CHUNK_SPREAD, LANES, add_plastic_strain, any_lane, lane_flags, lanes_of, lanes_of_mat,
+                       lanes_of_vec, quadratic_weights, quadratic_weights_lanes)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -278,9 +278,7 @@ def _make_relax_kernel(lanes: bool):
                     a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
                     sigma[p] = ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]])
                     s_yy[p] = a_yy * scale - P
-                    dgamma = tau * (1.0 - scale) / prm[0]
-                    eps_p[p] += dgamma
-                    gdot_p[p] = dgamma / dt
+                    add_plastic_strain(eps_p, gdot_p, p, tau * (1.0 - scale) / prm[0], dt)
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range((n + LANES - 1) // LANES):
@@ -307,8 +305,7 @@ def _make_relax_kernel(lanes: bool):
                         if p < n and stressed[k] > 0.0:
                             sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
                             s_yy[p] = t_yy[k]
-                            eps_p[p] += dgamma[k]
-                            gdot_p[p] = dgamma[k] / dt
+                            add_plastic_strain(eps_p, gdot_p, p, dgamma[k], dt)
 
     return fluidity_relax
 

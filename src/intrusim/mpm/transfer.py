@@ -304,6 +304,13 @@ def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
 
 
 @ti.func
+def add_plastic_strain(eps_p: ti.template(), gdot_p: ti.template(), p, dgamma, dt):
+    """Point p's plastic shear strain grows by dgamma this step; its rate is dgamma / dt."""
+    eps_p[p] += dgamma
+    gdot_p[p] = dgamma / dt
+
+
+@ti.func
 def lane_flags(mask):
     """A lane mask as a vector of 1.0 / 0.0. In an unscalarised kernel (Taichi 1.7.4) a mask's
     ``.any()`` and its elements read one by one come out false whatever the lanes hold; ``ti.select``
@@ -379,8 +386,7 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
                 sig, syy, dgamma = stress_update(sigma[p], s_yy[p], L, mass[p] / vol[p], dt, prm)
                 sigma[p] = sig
                 s_yy[p] = syy
-                eps_p[p] += dgamma
-                gdot_p[p] = dgamma / dt
+                add_plastic_strain(eps_p, gdot_p, p, dgamma, dt)
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range((n + LANES - 1) // LANES):
@@ -403,8 +409,7 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
                         vol[p] = vp[k]
                         sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
                         s_yy[p] = t_yy[k]
-                        eps_p[p] += dgamma[k]
-                        gdot_p[p] = dgamma[k] / dt
+                        add_plastic_strain(eps_p, gdot_p, p, dgamma[k], dt)
 
     _G2P_KERNELS[key] = g2p_density_stress
     return g2p_density_stress
