@@ -32,9 +32,9 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .grid import copy_record, union_box
+from .grid import record_index, union_box
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .transfer import (CHUNK_SPREAD, LANES, add_plastic_strain, any_lane, lane_flags, lanes_of, lanes_of_mat,
+from .transfer import (CHUNK_SPREAD, LANES, add_block_records, add_plastic_strain, any_lane, lane_flags, lanes_of, lanes_of_mat,
                        lanes_of_vec, quadratic_weights, quadratic_weights_lanes)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
@@ -77,17 +77,36 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 @ti.func
 def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
                     parts: ti.template(), nx, ny, h, pad, prm, mode: ti.template(), scale):
-    """Point p's sources into copy c of ``parts`` (flat records, ``grid.copy_record``: the stencil's
+    """Point p's sources into copy c of ``parts`` (3-vector records, ``grid.record_index``: the stencil's
     first node addressed once, the other 8 at fixed offsets), by ``fixed_point.scatter_add`` (PLAIN: one
     loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
-    first = copy_record(c, base[0], base[1], nx, ny)
+    first = record_index(c, base[0], base[1], nx, ny)
     for a, e in ti.static(ti.ndrange(3, 3)):
-        k = first + (a * ny + e) * 3
-        dv = w[a][0] * w[e][1] * val
-        for r in ti.static(range(3)):
-            scatter_add(parts, k + r, dv[r], mode, scale)
+        scatter_add(parts, first + a * ny + e, w[a][0] * w[e][1] * val, mode, scale)
     return base
+
+
+@ti.func
+def _source_lanes(p0, last, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
+                  nx, ny, h, pad, prm):
+    """:func:`_point_source` for the LANES points from p0 (index capped at ``last``), each quantity a
+    vector over them (branch-free): the stencil's base node per axis (floats) and, per node (a, e),
+    the record w m_p (|dmu|, |dmu| g_loc, 1) it receives."""
+    mu_s, b, d, rho_s = prm[0], prm[1], prm[2], prm[3]
+    P, tau = pressure_and_tau(lanes_of_mat(sigma, p0, last, 0, 0), lanes_of_mat(sigma, p0, last, 1, 1),
+                              lanes_of_mat(sigma, p0, last, 0, 1), lanes_of(s_yy, p0, last))
+    mu = tau / P
+    dmu = ti.select(P > 0.0, ti.max(mu - mu_s, mu_s - mu), 0.0)  # |mu - mu_s| (no ti.abs on such a vector)
+    gloc = ti.select((P > 0.0) & (mu > mu_s), ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu), 0.0)
+    m = lanes_of(mass, p0, last)
+    val = (m * dmu, m * (dmu * gloc), m * 1.0)
+    inv_h = 1.0 / h
+    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 0) * inv_h + pad, nx)
+    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 1) * inv_h + pad, ny)
+    records = [(w0[a] * w1[e] * val[0], w0[a] * w1[e] * val[1], w0[a] * w1[e] * val[2])
+               for a in ti.static(range(3)) for e in ti.static(range(3))]
+    return b0, b1, records
 
 
 @ti.func
@@ -96,19 +115,24 @@ def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny, inv_
     times ``inv_scale``, else 1); the records are zeroed."""
     total = ti.Vector([0.0, 0.0, 0.0])
     for c in range(nc):
-        k = copy_record(c, i, j, nx, ny)  # float: the backend's real type (a no-op on real copies)
-        total += ti.Vector([ti.cast(parts[k], float), ti.cast(parts[k + 1], float), ti.cast(parts[k + 2], float)]) * inv_scale
-        parts[k], parts[k + 1], parts[k + 2] = 0, 0, 0
+        k = record_index(c, i, j, nx, ny)
+        rec = parts[k]  # float: the backend's real type (a no-op on real copies)
+        total += ti.Vector([ti.cast(rec[0], float), ti.cast(rec[1], float), ti.cast(rec[2], float)]) * inv_scale
+        parts[k][0], parts[k][1], parts[k][2] = 0, 0, 0
     src[i, j] = total
 
 
-def fluidity_sources_kernel(chunked: bool, fixed: bool = False):
+def fluidity_sources_kernel(chunked: bool, fixed: bool = False, lanes: bool = False):
     """The sources' kernel, chunked (CPU: private copies, deterministic) or atomic (GPU: one copy,
-    atomic adds, float or 64-bit fixed point, the box is the whole grid), as ``transfer.p2g_kernel``."""
-    return _SOURCE_KERNELS[sum_mode(chunked, fixed)]
+    atomic adds, float or 64-bit fixed point, the box is the whole grid), as ``transfer.p2g_kernel``;
+    ``lanes`` (chunked only): vectorised over LANES points (:func:`_source_lanes`), compiled unscalarised."""
+    mode = sum_mode(chunked, fixed)
+    if lanes and mode != PLAIN:
+        raise ValueError("the vectorised sources' kernel is the chunked one (private copies, no atomics)")
+    return _SOURCE_KERNELS[(mode, lanes)]
 
 
-def _make_sources_kernel(mode: int):
+def _make_sources_kernel(mode: int, lanes: bool):
     chunked = mode == PLAIN
 
     @ti.kernel
@@ -135,12 +159,22 @@ def _make_sources_kernel(mode: int):
             for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
                 if q % CHUNK_SPREAD == 0:
                     c = q // CHUNK_SPREAD
-                    lo = ti.Vector([nx, ny])
-                    hi = ti.Vector([0, 0])
-                    for p in range(c * n // nc, (c + 1) * n // nc):
-                        base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, PLAIN, scale)
-                        lo, hi = ti.min(lo, base), ti.max(hi, base + 3)
-                    box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
+                    start, end = c * n // nc, (c + 1) * n // nc
+                    if ti.static(lanes):
+                        i0, i1, j0, j1 = nx, 0, ny, 0
+                        for blk in range((end - start + LANES - 1) // LANES):
+                            b0, b1, records = _source_lanes(start + blk * LANES, end - 1, x, mass, sigma, s_yy,
+                                                            nx, ny, h, pad, prm)
+                            i0, i1, j0, j1 = add_block_records(parts, c, start + blk * LANES, end, b0, b1, records,
+                                                               nx, ny, i0, i1, j0, j1)
+                        box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = i0, i1, j0, j1
+                    else:
+                        lo = ti.Vector([nx, ny])
+                        hi = ti.Vector([0, 0])
+                        for p in range(start, end):
+                            base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, PLAIN, scale)
+                            lo, hi = ti.min(lo, base), ti.max(hi, base + 3)
+                        box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
         else:
             box_parts[0, 0], box_parts[0, 1], box_parts[0, 2], box_parts[0, 3] = 0, nx, 0, ny
             for p in range(n):
@@ -162,7 +196,8 @@ def _make_sources_kernel(mode: int):
     return fluidity_sources
 
 
-_SOURCE_KERNELS = {mode: _make_sources_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
+_SOURCE_KERNELS = {(mode, False): _make_sources_kernel(mode, False) for mode in (PLAIN, ATOMIC, FIXED)}
+_SOURCE_KERNELS[(PLAIN, True)] = _make_sources_kernel(PLAIN, True)
 
 
 @ti.func
@@ -326,9 +361,9 @@ class FluidityField:
             raise ValueError("chunked sources sum in a fixed order already: no fixed point")
         self.fixed_scale = None if fixed_scale is None else float(fixed_scale)  # one copy of 64-bit integers
         copies = SOURCE_CHUNKS if self.chunked else 1  # private copies (CPU) or one with atomic adds (GPU)
-        # one flat array of (|dmu|, |dmu| g_loc, 1)-records per node and copy (grid.copy_record)
+        # one (|dmu|, |dmu| g_loc, 1)-record (a 3-vector) per node and copy (grid.record_index)
         dtype = real if self.fixed_scale is None else ti.i64
-        self.parts = ti.ndarray(dtype, shape=copies * self.shape[0] * self.shape[1] * 3)
+        self.parts = ti.Vector.ndarray(3, dtype, shape=copies * self.shape[0] * self.shape[1])
         self.parts.fill(0)  # the sources' kernel leaves them zeroed after each step
         self.box_parts = ti.ndarray(ti.i32, shape=(copies, 4))
         self.box = ti.ndarray(ti.i32, shape=8)

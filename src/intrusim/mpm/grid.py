@@ -65,13 +65,6 @@ def record_index(c, i, j, nx, ny):
 
 
 @ti.func
-def copy_record(c, i, j, nx, ny):
-    """Index of the first float of node (i, j)'s 3-float record in copy c of a flat array of records
-    (the fluidity sources' copies)."""
-    return record_index(c, i, j, nx, ny) * 3
-
-
-@ti.func
 def union_box(box_parts: ti.template(), nx, ny):
     """The node box [i0, i1, j0, j1) holding every copy's box ``box_parts[c]`` (a serial reduction)."""
     b0, b1, b2, b3 = nx, 0, ny, 0

@@ -136,9 +136,9 @@ class Solver:
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
-            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None), (
+            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, self._lanes and f.chunked), (
                 p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
-                f.fixed_scale or 1.0))]
+                f.fixed_scale or 1.0), unscalarized=self._lanes and f.chunked)]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
             launches.append(Launch(fluidity_relax_kernel(self._lanes), (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,

@@ -166,25 +166,33 @@ def p2g_lanes_records(p0, last, x: ti.template(), v: ti.template(), C: ti.templa
 
 
 @ti.func
+def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, lo0, hi0, lo1, hi1):
+    """The 9 records of each lane of a block (points p0 ... p0 + LANES - 1 below ``end``), point after
+    point, into copy c of ``gmp`` (3-vector records: one vector load, add and store per node) at their
+    base nodes (b0, b1); returns the node box (i0, i1, j0, j1) widened to them."""
+    for k in ti.static(range(LANES)):
+        if p0 + k < end:  # the last block's missing lanes repeat the chunk's last point
+            i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
+            first = record_index(c, i, j, nx, ny)
+            for a in ti.static(range(3)):
+                for b in ti.static(range(3)):
+                    r, rec = first + a * ny + b, records[a * 3 + b]
+                    gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k]])
+            lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
+            hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
+    return lo0, hi0, lo1, hi1
+
+
+@ti.func
 def scatter_chunk_lanes(c, start, end, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
                         vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt):
     """Points [start, end) into grid copy c, LANES at a time (:func:`p2g_lanes_records`), each point's
     9 records still added one after the other in point order; returns the node box (i0, i1, j0, j1)."""
-    lo0, lo1, hi0, hi1 = nx, ny, 0, 0
+    i0, i1, j0, j1 = nx, 0, ny, 0
     for blk in range((end - start + LANES - 1) // LANES):
-        p0 = start + blk * LANES
-        b0, b1, records = p2g_lanes_records(p0, end - 1, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
-        for k in ti.static(range(LANES)):
-            if p0 + k < end:  # the last block's missing lanes repeat the chunk's last point
-                i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
-                first = record_index(c, i, j, nx, ny)
-                for a in ti.static(range(3)):
-                    for b in ti.static(range(3)):
-                        r, rec = first + a * ny + b, records[a * 3 + b]
-                        gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k]])  # one vector load and store
-                lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
-                hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
-    return lo0, hi0, lo1, hi1
+        b0, b1, records = p2g_lanes_records(start + blk * LANES, end - 1, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+        i0, i1, j0, j1 = add_block_records(gmp, c, start + blk * LANES, end, b0, b1, records, nx, ny, i0, i1, j0, j1)
+    return i0, i1, j0, j1
 
 
 def p2g_args(particles, grid, dt: float) -> tuple:
