@@ -282,9 +282,9 @@ class BackendConfig(_Model):
     )
     simd_lanes: bool = Field(
         True,
-        description="CPU: the G2P kernel (velocity, position, density, stress) and the chunked P2G "
-        "compute 8 points at once as vectors (SIMD); False: one point per loop iteration (the "
-        "reference; a GPU's always)",
+        description="CPU: the G2P kernel (velocity, position, density, stress), the chunked P2G and "
+        "the nonlocal fluidity's sources and relaxation compute 8 points at once as vectors (SIMD); "
+        "False: one point per loop iteration (the reference; a GPU's always)",
     )
 
 

@@ -34,8 +34,8 @@ import taichi as ti
 from . import backend
 from .grid import record_index, union_box
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .transfer import (CHUNK_SPREAD, LANES, add_block_records, add_plastic_strain, any_lane, lane_flags, lanes_of, lanes_of_mat,
-                       lanes_of_vec, quadratic_weights, quadratic_weights_lanes)
+from .transfer import (CHUNK_SPREAD, LANES, add_block_records, add_plastic_strain, any_lane, lane_flags, lane_nodes,
+                       lanes_of, lanes_of_mat, quadratic_weights, stencil_lanes)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -101,9 +101,7 @@ def _source_lanes(p0, last, x: ti.template(), mass: ti.template(), sigma: ti.tem
     gloc = ti.select((P > 0.0) & (mu > mu_s), ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu), 0.0)
     m = lanes_of(mass, p0, last)
     val = (m * dmu, m * (dmu * gloc), m * 1.0)
-    inv_h = 1.0 / h
-    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 0) * inv_h + pad, nx)
-    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 1) * inv_h + pad, ny)
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, p0, last, h, pad, nx, ny)
     records = [(w0[a] * w1[e] * val[0], w0[a] * w1[e] * val[1], w0[a] * w1[e] * val[2])
                for a in ti.static(range(3)) for e in ti.static(range(3))]
     return b0, b1, records
@@ -321,13 +319,11 @@ def _make_relax_kernel(lanes: bool):
                 s_xx, s_zz = lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1)
                 s_xz, syy = lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1)
                 P, tau = pressure_and_tau(s_xx, s_zz, s_xz, syy)
-                stressed = lane_flags((P > 0.0) & (tau > 0.0))  # 1.0 / 0.0 (transfer.lane_flags)
-                if any_lane(stressed > 0.0):
-                    inv_h = 1.0 / h
-                    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, n - 1, 0) * inv_h + pad, excess.shape[0])
-                    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, n - 1, 1) * inv_h + pad, excess.shape[1])
-                    i0 = [ti.cast(b0[k], ti.i32) for k in ti.static(range(LANES))]
-                    i1 = [ti.cast(b1[k], ti.i32) for k in ti.static(range(LANES))]
+                stressed = (P > 0.0) & (tau > 0.0)
+                if any_lane(stressed):
+                    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, p0, n - 1, h, pad, excess.shape[0], excess.shape[1])
+                    i0, i1 = lane_nodes(b0), lane_nodes(b1)
+                    flags = lane_flags(stressed)  # 1.0 / 0.0: a mask's lanes are read through ti.select
                     ex = 0.0 * P
                     for a, c in ti.static(ti.ndrange(3, 3)):
                         ex += w0[a] * w1[c] * ti.Vector([excess[i0[k] + a, i1[k] + c] for k in ti.static(range(LANES))])
@@ -337,7 +333,7 @@ def _make_relax_kernel(lanes: bool):
                     t_xz = s_xz * scale
                     for k in ti.static(range(LANES)):
                         p = p0 + k
-                        if p < n and stressed[k] > 0.0:
+                        if p < n and flags[k] > 0.0:
                             sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
                             s_yy[p] = t_yy[k]
                             add_plastic_strain(eps_p, gdot_p, p, dgamma[k], dt)
@@ -346,7 +342,6 @@ def _make_relax_kernel(lanes: bool):
 
 
 _RELAX_KERNELS = {flag: _make_relax_kernel(flag) for flag in (False, True)}
-fluidity_relax = _RELAX_KERNELS[False]
 
 
 class FluidityField:

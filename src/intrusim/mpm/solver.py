@@ -90,7 +90,7 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes  # G2P and the chunked P2G vectorised
+        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes  # the point kernels vectorised (simd_lanes)
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
@@ -115,7 +115,7 @@ class Solver:
     def _launches(self, active: tuple[bool, ...]) -> list[Launch]:
         """The kernels of one step in order (SPEC 1 recipe, steps 1-6), for these obstacles."""
         g, p, dt = self.grid, self.particles, self.dt
-        lanes = self._lanes and g.chunks > 1  # the vectorised P2G is the chunked one
+        lanes = self._lanes and g.chunks > 1  # the vectorised scatters (P2G, fluidity sources) are the chunked ones
         launches = [
             # 1. P2G (copies left zeroed by 2.)
             Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes), p2g_args(p, g, dt), unscalarized=lanes),
@@ -136,9 +136,9 @@ class Solver:
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
-            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, self._lanes and f.chunked), (
+            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, lanes), (
                 p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
-                f.fixed_scale or 1.0), unscalarized=self._lanes and f.chunked)]
+                f.fixed_scale or 1.0), unscalarized=lanes)]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
             launches.append(Launch(fluidity_relax_kernel(self._lanes), (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,

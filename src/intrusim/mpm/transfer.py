@@ -147,8 +147,7 @@ def p2g_lanes_records(p0, last, x: ti.template(), v: ti.template(), C: ti.templa
     each quantity a vector over the lanes: the stencil's base node per axis (as floats) and, per node
     (a, b) of the 3 x 3 stencil, the record (w m v_x, w m v_z, w m) it receives."""
     inv_h = 1.0 / h
-    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 0) * inv_h + pad, nx)
-    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 1) * inv_h + pad, ny)
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, p0, last, h, pad, nx, ny)
     mp = lanes_of(mass, p0, last)
     kv = dt * lanes_of(vol, p0, last) * 4.0 * inv_h * inv_h
     # affine = m_p C_p - dt V_p (4/h^2) sigma_p ;  q0 = m_p v_p - h affine f ;  ca, cb = h affine[:, 0], h affine[:, 1]
@@ -278,6 +277,22 @@ def quadratic_weights_lanes(X, n: int):
 
 
 @ti.func
+def stencil_lanes(x: ti.template(), p0, last, h, pad, nx: int, ny: int):
+    """:func:`quadratic_weights_lanes` along both axes for the positions ``x`` of the lanes' points
+    (see :func:`lanes_of`) on an nx x ny grid: (b0, f0, w0, b1, f1, w1)."""
+    inv_h = 1.0 / h
+    b0, f0, w0 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 0) * inv_h + pad, nx)
+    b1, f1, w1 = quadratic_weights_lanes(lanes_of_vec(x, p0, last, 1) * inv_h + pad, ny)
+    return b0, f0, w0, b1, f1, w1
+
+
+@ti.func
+def lane_nodes(base):
+    """The lanes' base node indices (a list of integers) from their float base vector."""
+    return [ti.cast(base[k], ti.i32) for k in ti.static(range(LANES))]
+
+
+@ti.func
 def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
     """:func:`g2p_point` for LANES points at once, each component a vector over the lanes:
     returns (v_x, v_z) and the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order).
@@ -285,8 +300,7 @@ def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
     inv_h = 1.0 / h
     b0, f0, w0 = quadratic_weights_lanes(x0 * inv_h + pad, gv.shape[0])
     b1, f1, w1 = quadratic_weights_lanes(x1 * inv_h + pad, gv.shape[1])
-    i0 = [ti.cast(b0[k], ti.i32) for k in ti.static(range(LANES))]
-    i1 = [ti.cast(b1[k], ti.i32) for k in ti.static(range(LANES))]
+    i0, i1 = lane_nodes(b0), lane_nodes(b1)
     zero = ti.Vector([0.0] * LANES)
     s0x, s0z, sax, saz, sbx, sbz = zero, zero, zero, zero, zero, zero
     for a in ti.static(range(3)):
