@@ -5,8 +5,8 @@ with separation, walls) it prints, all measured in the same run:
 
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
 * the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
-* on the CPU, the same step with G2P one point per loop iteration (``backend.simd_lanes = False``)
-  against the default G2P vectorised over 8 points, in alternate rounds,
+* on the CPU, the same step with G2P and P2G one point per loop iteration (``backend.simd_lanes =
+  False``) against the default kernels vectorised over 8 points, in alternate rounds,
 * the same step with the kernels called one by one instead of as one compiled graph, and with
   P2G by atomic adds into one grid copy (a GPU's P2G), in 64-bit fixed point (reproducible, the
   default) and in float (rounding in the threads' order),
@@ -174,17 +174,17 @@ def time_steps(solver, min_time: float = 2.0) -> float:
 def time_alternating(solvers: dict, min_time: float = 2.0, rounds: int = 5) -> dict:
     """Seconds per step of each solver, timed in alternate rounds (so the machine's drift falls on
     all of them), best round of each."""
-    for solver in solvers.values():  # compile and warm up
-        for _ in range(5):
-            solver.step()
-    _sync()
     per_step = time_steps(next(iter(solvers.values())), min_time / 3)
     return alternate_rounds(solvers, max(10, int(min_time / (rounds * len(solvers) * per_step))), rounds)
 
 
 def alternate_rounds(solvers: dict, n: int, rounds: int) -> dict:
     """Best seconds per step of each solver over ``rounds`` rounds of ``n`` steps, the solvers taking
-    turns within each round."""
+    turns within each round (each compiled and warmed up by 5 steps first)."""
+    for solver in solvers.values():
+        for _ in range(5):
+            solver.step()
+    _sync()
     best = {key: np.inf for key in solvers}
     for _ in range(rounds):
         for key, solver in solvers.items():
@@ -226,9 +226,6 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
         cfg = mpm_config(grousered_wheel_scenario(), s, 60.0, None)
         cfg.backend.device_bodies = on_device
         solvers[on_device] = Solver(cfg)
-        for _ in range(5):
-            solvers[on_device].step()
-    _sync()
     best = alternate_rounds(solvers, max(1, int(round(physical / rounds / solvers[True].dt))), rounds)
     solver = solvers[True]
     return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": best[True] * 1e3,
@@ -266,7 +263,7 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
         out["cases"][label] = row
         del solver
-        if arch == "cpu":  # G2P one point per loop iteration against the vectorised one (8 points), same run
+        if arch == "cpu":  # G2P and P2G one point per loop iteration against the vectorised ones (8 points), same run
             pair = time_alternating({lanes: bed_solver(domain, cells, bed, arch, simd_lanes=lanes) for lanes in (True, False)})
             row["lanes_pair_ms_per_step"] = (pair[True] * 1e3, pair[False] * 1e3)
         if arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
@@ -377,7 +374,7 @@ def report(results: list[dict], arch: str) -> None:
         for label, c in r["cases"].items():
             if "lanes_pair_ms_per_step" in c:
                 lanes, scalar = c["lanes_pair_ms_per_step"]
-                print(f"{r['threads']} threads, {label}: G2P one point per loop iteration (backend.simd_lanes = false) "
+                print(f"{r['threads']} threads, {label}: G2P and P2G one point per loop iteration (backend.simd_lanes = false) "
                       f"{scalar:.2f} ms/step vs {lanes:.2f} vectorised over 8 points (alternate rounds, best of 5): "
                       f"{scalar / lanes:.2f}x")
     for r in results:
