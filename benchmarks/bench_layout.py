@@ -1,122 +1,129 @@
-"""Benchmark: does packing each point's state into one record speed up G2P? (docs/performance.md)
+"""Benchmark: the particle arrays' layout, one element per point against blocks of 8 points (docs/performance.md).
 
-The solver keeps the particle state as a structure of arrays: 9 Taichi ndarrays (x, v, C, mass,
-vol, sigma, s_yy, eps_p, gdot_p), of which G2P reads 6 and writes 8. The alternative is an array
-of structures: one 16-float (64-byte) record per point,
+The vectorised G2P (``backend.simd_lanes``) computes 8 points per loop iteration. With one array
+element per point (the solver's layout before session 48: ``x`` an ndarray of 2-vectors, ``sigma``
+of 2 x 2 matrices, ...) each lane of each component is its own scalar load and vector insert, and
+its own extract and store. With the points in blocks of 8 per component (``particles.py``: an
+ndarray of shape (blocks, components) whose element is an 8-vector) a block's component is one
+vector load or store.
 
-    x0 x1 v0 v1 C00 C01 C10 C11 mass vol s_xx s_xz s_zz s_yy eps_p gdot_p
-
-(sigma stored once, it is symmetric), so a point's state is one cache line. This script times the
-solver's G2P kernel (``transfer.g2p_kernel``, the SoA layout) against a copy of it on the packed
-record, on the benchmark's 64k and 160k resting beds (bench_mpm.CASES) after a few steps of the
-solver: --rounds interleaved rounds of ~0.3 s of launches of each (min and median per launch).
-Both compute the same numbers (checked in each run: the largest difference relative to each
-field's magnitude is printed). The baseline in the same run is the SoA kernel.
+This script times only that traffic, the G2P's particle reads and writes (reads x 2, m, V, sigma 3,
+s_yy, eps_p; writes v 2, C 4, x 2, V, sigma 3, s_yy, eps_p, gdot_p: 24 floats per point) with a
+few operations between them, in both layouts, vectorised over 8 points and compiled alike
+(``backend.unscalarized``). Both store the same numbers (checked in each run). The baseline in the
+same run is the per-point layout; interleaved rounds of ~0.3 s, min and median per launch.
 
     python benchmarks/bench_layout.py --threads 2
 """
-
 
 import argparse
 import json
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-def packed_g2p_kernel(stress_update):
-    """The solver's G2P + density + stress update on one 16-float record per point."""
+SIZES = (64_000, 160_000, 1_000_000)
+READ = ("x", "mass", "vol", "sigma", "s_yy", "eps_p")
+COMPONENTS = {"x": 2, "v": 2, "C": 4, "mass": 1, "vol": 1, "sigma": 3, "s_yy": 1, "eps_p": 1, "gdot_p": 1}
+
+
+def kernels():
     import taichi as ti
 
-    from intrusim.mpm import backend
-    from intrusim.mpm.transfer import exp_near_zero, g2p_point
+    from intrusim.mpm.particles import LANES
+
+    @ti.func
+    def lanes(a: ti.template(), p0, c: ti.template()):
+        return ti.Vector([a[p0 + k][c] for k in ti.static(range(LANES))])
 
     @ti.kernel
-    def g2p_packed(rec: ti.types.ndarray(), gv: ti.types.ndarray(), h: float, pad: int, dt: float,
-                   prm: ti.types.vector(4, float), inv_rho_floor: float):
-        ti.loop_config(serialize=backend.SERIAL_LOOPS)  # as the solver's kernel
-        for p in range(rec.shape[0]):
-            xp = ti.Vector([rec[p][0], rec[p][1]])
-            new_v, L = g2p_point(xp, gv, h, pad)
-            xp += dt * new_v
-            mass = rec[p][8]
-            vol = ti.min(rec[p][9] * exp_near_zero(dt * L.trace()), mass * inv_rho_floor)
-            sigma = ti.Matrix([[rec[p][10], rec[p][11]], [rec[p][11], rec[p][12]]])
-            sig, syy, dgamma = stress_update(sigma, rec[p][13], L, mass / vol, dt, prm)
-            rec[p][0], rec[p][1], rec[p][2], rec[p][3] = xp[0], xp[1], new_v[0], new_v[1]
-            rec[p][4], rec[p][5], rec[p][6], rec[p][7] = L[0, 0], L[0, 1], L[1, 0], L[1, 1]
-            rec[p][9], rec[p][10], rec[p][11], rec[p][12] = vol, sig[0, 0], sig[0, 1], sig[1, 1]
-            rec[p][13], rec[p][14], rec[p][15] = syy, rec[p][14] + dgamma, dgamma / dt
+    def per_point(x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(), mass: ti.types.ndarray(),
+                  vol: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
+                  eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray()):
+        for blk in range(x.shape[0] // LANES):
+            p0 = blk * LANES
+            x0, x1, m, vp = lanes(x, p0, 0), lanes(x, p0, 1), lanes(mass, p0, 0), lanes(vol, p0, 0)
+            s0, s1, s2, sy, ep = lanes(sigma, p0, 0), lanes(sigma, p0, 1), lanes(sigma, p0, 2), lanes(s_yy, p0, 0), \
+                lanes(eps_p, p0, 0)
+            a, b, d = x0 * 1.0001 + s0 * 1e-9, x1 * 0.9999 + s1 * 1e-9, m / vp
+            for k in ti.static(range(LANES)):
+                p = p0 + k
+                v[p] = ti.Vector([a[k], b[k]])
+                C[p] = ti.Vector([a[k], b[k], d[k], s2[k]])
+                x[p] = ti.Vector([a[k], b[k]])
+                vol[p] = ti.Vector([vp[k]])
+                sigma[p] = ti.Vector([s0[k], s1[k], s2[k] + d[k]])
+                s_yy[p] = ti.Vector([sy[k] + d[k]])
+                eps_p[p] = ti.Vector([ep[k] + d[k]])
+                gdot_p[p] = ti.Vector([d[k]])
 
-    return g2p_packed
+    @ti.kernel
+    def blocks(x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(), mass: ti.types.ndarray(),
+               vol: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
+               eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray()):
+        for blk in range(x.shape[0]):
+            x0, x1, m, vp = x[blk, 0], x[blk, 1], mass[blk, 0], vol[blk, 0]
+            s0, s1, s2, sy, ep = sigma[blk, 0], sigma[blk, 1], sigma[blk, 2], s_yy[blk, 0], eps_p[blk, 0]
+            a, b, d = x0 * 1.0001 + s0 * 1e-9, x1 * 0.9999 + s1 * 1e-9, m / vp
+            v[blk, 0], v[blk, 1] = a, b
+            C[blk, 0], C[blk, 1], C[blk, 2], C[blk, 3] = a, b, d, s2
+            x[blk, 0], x[blk, 1] = a, b
+            vol[blk, 0] = vp
+            sigma[blk, 0], sigma[blk, 1], sigma[blk, 2] = s0, s1, s2 + d
+            s_yy[blk, 0] = sy + d
+            eps_p[blk, 0] = ep + d
+            gdot_p[blk, 0] = d
 
-
-def pack(state: dict) -> np.ndarray:
-    n = len(state["x"])
-    rec = np.empty((n, 16), np.float32)
-    rec[:, 0:2], rec[:, 2:4] = state["x"], state["v"]
-    rec[:, 4:8] = state["C"].reshape(n, 4)
-    rec[:, 8], rec[:, 9] = state["mass"], state["vol"]
-    rec[:, 10], rec[:, 11], rec[:, 12] = state["sigma"][:, 0, 0], state["sigma"][:, 0, 1], state["sigma"][:, 1, 1]
-    rec[:, 13], rec[:, 14], rec[:, 15] = state["s_yy"], state["eps_p"], state["gdot_p"]
-    return rec
+    return per_point, blocks
 
 
 def measure(threads: int, rounds: int) -> list[dict]:
-    sys.path.insert(0, str(Path(__file__).parent))
     import taichi as ti
-    from bench_mpm import CASES, bed_solver
 
-    from intrusim.mpm.backend import ensure_initialized
+    from intrusim.mpm.backend import ensure_initialized, unscalarized
+    from intrusim.mpm.particles import LANES, from_blocks, to_blocks
 
     ensure_initialized("cpu", "f32", threads)
+    per_point, blocks = kernels()
     rows = []
-    for label, (domain, cells, bed) in CASES.items():
-        solver = bed_solver(domain, cells, bed, "cpu")
-        for _ in range(20):  # a bed that has started to settle: grid velocities are not all zero
-            solver.step()
-        p, g = solver.particles, solver.grid
-        g2p_soa = solver._g2p
-        g2p_rec = packed_g2p_kernel(solver.material.taichi_update)
-        prm = ti.Vector(list(solver.material.params))
-        inv_floor = 1.0 / solver.cfg.material.rho_floor
-        state0 = p.to_numpy()
-        rec = ti.Vector.ndarray(16, ti.f32, shape=p.n)
-        # the grid velocities stay fixed, so the repeats move each copy of the state on by
-        # v dt per launch (~1e-7 m at rest): the same work in every launch
-        soa_args = (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p, g.v, g.h, g.pad, solver.dt, prm, inv_floor)
-        rec_args = (rec, g.v, g.h, g.pad, solver.dt, prm, inv_floor)
-        # same numbers: one launch of each from the same state
-        rec.from_numpy(pack(state0))
-        g2p_soa(*soa_args)
-        g2p_rec(*rec_args)
-        diff = np.abs(pack(p.to_numpy()) - rec.to_numpy()).max(axis=0)
-        scale = np.maximum(np.abs(pack(p.to_numpy())).max(axis=0), 1e-12)
-        mismatch = float((diff / scale).max())
-        p.load(state0)
-        rec.from_numpy(pack(state0))
+    for n in SIZES:
+        rng = np.random.default_rng(0)
+        host = {k: rng.uniform(1.0, 2.0, (n, c)).astype(np.float32) for k, c in COMPONENTS.items()}
+        flat = {k: ti.Vector.ndarray(c, ti.f32, shape=n) for k, c in COMPONENTS.items()}
+        blk = {k: ti.Vector.ndarray(LANES, ti.f32, shape=(n // LANES, c)) for k, c in COMPONENTS.items()}
 
-        def timed(kernel, args, n):
+        def reset():
+            for k in COMPONENTS:
+                flat[k].from_numpy(host[k])
+                blk[k].from_numpy(to_blocks(host[k]))
+
+        args_flat = [flat[k] for k in COMPONENTS]
+        args_blk = [blk[k] for k in COMPONENTS]
+        reset()
+        with unscalarized():  # both compiled as vector code, as the solver's G2P
+            per_point(*args_flat)
+            blocks(*args_blk)
+        mismatch = max(float(np.abs(flat[k].to_numpy() - from_blocks(blk[k].to_numpy(), n)).max()) for k in COMPONENTS)
+        reset()
+
+        def timed(kernel, args, count):
             ti.sync()
             t0 = time.perf_counter()
-            for _ in range(n):
+            for _ in range(count):
                 kernel(*args)
             ti.sync()
-            return (time.perf_counter() - t0) / n
+            return (time.perf_counter() - t0) / count
 
-        # warm up and choose launches per round (~0.3 s)
-        timed(g2p_soa, soa_args, 3), timed(g2p_rec, rec_args, 3)
-        n = max(5, int(0.3 / timed(g2p_soa, soa_args, 5)))
-        soa, packed = [], []
+        count = max(5, int(0.3 / timed(per_point, args_flat, 5)))
+        flat_ms, blk_ms = [], []
         for _ in range(rounds):
-            soa.append(timed(g2p_soa, soa_args, n))
-            packed.append(timed(g2p_rec, rec_args, n))
-        rows.append({"threads": threads, "case": label, "points": p.n, "launches": n,
-                     "soa_ms": [1e3 * t for t in soa], "packed_ms": [1e3 * t for t in packed],
-                     "max_rel_mismatch": mismatch})
-        del solver
+            flat_ms.append(1e3 * timed(per_point, args_flat, count))
+            blk_ms.append(1e3 * timed(blocks, args_blk, count))
+        bytes_moved = n * 4 * (9 + 15)
+        rows.append({"threads": threads, "points": n, "flat_ms": flat_ms, "blocks_ms": blk_ms,
+                     "mismatch": mismatch, "bytes": bytes_moved})
     return rows
 
 
@@ -129,16 +136,21 @@ def main() -> None:
     if args.child is not None:
         print(json.dumps(measure(args.child, args.rounds)))
         return
-    print("G2P: structure of arrays (the solver's kernel; baseline) vs one 16-float record per point")
-    print("| threads | points | SoA ms (min / median) | packed ms (min / median) | packed / SoA (medians) | max rel. mismatch |")
-    print("|---|---|---|---|---|---|")
+    print("G2P's particle reads and writes (24 floats per point), vectorised over 8 points: one array element")
+    print("per point (baseline) vs blocks of 8 points per component (the solver's layout)")
+    print("| threads | points | per point ms (min / median) | blocks ms (min / median) | per point / blocks (medians) "
+          "| blocks GB/s | max mismatch |")
+    print("|---|---|---|---|---|---|---|")
     for t in args.threads.split(","):
         out = subprocess.run([sys.executable, __file__, "--child", t, "--rounds", str(args.rounds)],
-                             capture_output=True, text=True, check=True)
+                             capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"benchmark child ({t} threads) failed:\n{out.stderr[-3000:]}")
         for r in json.loads(out.stdout.strip().splitlines()[-1]):
-            s, q = np.array(r["soa_ms"]), np.array(r["packed_ms"])
-            print(f"| {r['threads']} | {r['points']:,} | {s.min():.3f} / {np.median(s):.3f} | {q.min():.3f} / "
-                  f"{np.median(q):.3f} | {np.median(q) / np.median(s):.3f} | {r['max_rel_mismatch']:.1e} |", flush=True)
+            f, b = np.array(r["flat_ms"]), np.array(r["blocks_ms"])
+            print(f"| {r['threads']} | {r['points']:,} | {f.min():.3f} / {np.median(f):.3f} | {b.min():.3f} / "
+                  f"{np.median(b):.3f} | {np.median(f) / np.median(b):.2f}x | {r['bytes'] / b.min() / 1e6:.1f} | "
+                  f"{r['mismatch']:.1e} |")
 
 
 if __name__ == "__main__":

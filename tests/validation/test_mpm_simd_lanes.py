@@ -19,7 +19,8 @@ from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import DruckerPragerSeparation, material_from_config
 from intrusim.mpm.solver import Solver
 from intrusim.mpm.fluidity import SOURCE_CHUNKS, fluidity_relax_kernel, fluidity_sources_kernel
-from intrusim.mpm.transfer import LANES, exp_near_zero_lanes, g2p_kernel, p2g_kernel
+from intrusim.mpm.particles import FIELDS, LANES, Particles
+from intrusim.mpm.transfer import exp_near_zero_lanes, g2p_kernel, p2g_kernel
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 
@@ -53,31 +54,31 @@ def _state(n: int, seed: int = 3) -> dict:
             "sigma": sigma, "s_yy": -p, "eps_p": rng.uniform(0.0, 0.1, n), "gdot_p": np.zeros(n), "gv": gv}
 
 
-def _arrays(state: dict) -> dict:
-    out = {}
-    for name, a in state.items():
-        a = np.asarray(a, np.float32)
-        if a.ndim == 3 and name in ("C", "sigma"):
-            arr = ti.Matrix.ndarray(2, 2, ti.f32, shape=a.shape[0])
-        elif a.ndim >= 2:
-            arr = ti.Vector.ndarray(2, ti.f32, shape=a.shape[:-1])
-        else:
-            arr = ti.ndarray(ti.f32, shape=a.shape)
-        arr.from_numpy(a)
-        out[name] = arr
-    return out
+def _arrays(state: dict) -> tuple[Particles, ti.Ndarray]:
+    """The state's points as the solver holds them (blocks of LANES, see particles) and its grid velocity."""
+    gv = ti.Vector.ndarray(2, ti.f32, shape=state["gv"].shape[:-1])
+    gv.from_numpy(np.asarray(state["gv"], np.float32))
+    return Particles({k: a for k, a in state.items() if k != "gv"}), gv
 
 
 def _g2p(material, state: dict, lanes: bool) -> dict:
-    arrs = _arrays(state)
-    order = ("x", "v", "C", "mass", "vol", "sigma", "s_yy", "eps_p", "gdot_p", "gv")
-    args = [arrs[k] for k in order] + [H, PAD, DT, material.params, 1.0 / 300.0]
+    pts, gv = _arrays(state)
+    args = [pts.arrays[k] for k in FIELDS] + [gv, H, PAD, DT, material.params, 1.0 / 300.0]
     if lanes:
         with unscalarized():
             g2p_kernel(material.taichi_update, len(material.params), lanes=True)(*args)
     else:
         g2p_kernel(material.taichi_update, len(material.params))(*args)
-    return {k: arrs[k].to_numpy() for k in order[:-1]}
+    return _with_pads(pts)
+
+
+def _with_pads(pts: Particles) -> dict:
+    """Every field of the points; the last block's pads must have stayed copies of the last point."""
+    out = pts.to_numpy(pads=True)
+    for name, a in out.items():
+        pads = a[pts.n:]
+        np.testing.assert_array_equal(pads, np.repeat(a[pts.n - 1: pts.n], len(pads), axis=0), err_msg=name)
+    return {name: a[: pts.n] for name, a in out.items()}
 
 
 def _close(got: dict, want: dict) -> None:
@@ -99,7 +100,7 @@ MATERIALS = {
 def test_one_g2p_step_matches_the_one_point_kernel(law):
     ensure_initialized(precision="f32")
     material = material_from_config(MATERIALS[law])
-    n = 8 * 125 + 5  # a last block of 5 points: its 3 missing lanes must not be stored
+    n = 8 * 125 + 5  # a last block of 5 points: its 3 pads are computed and stay copies of the last point
     state = _state(n)
     a, b = _g2p(material, state, lanes=False), _g2p(material, state, lanes=True)
     # every case of the law occurs: free separation, yield (plastic strain grows), elastic
@@ -120,10 +121,10 @@ def test_a_point_count_below_one_block():
 
 def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]:
     """The chunked P2G of ``state`` into ``chunks`` grid copies: (copies, each copy's node box)."""
-    arrs = _arrays(state)
+    pts, _ = _arrays(state)
     copies = ti.Vector.ndarray(3, ti.f32, shape=chunks * NX * NZ)
     box = ti.ndarray(ti.i32, shape=(chunks, 4))
-    args = [arrs[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [copies, box, NX, NZ, H, PAD, DT, 1.0]
+    args = [pts.arrays[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [pts.n, copies, box, NX, NZ, H, PAD, DT, 1.0]
     if lanes:
         with unscalarized():
             p2g_kernel(chunked=True, lanes=True)(*args)
@@ -142,6 +143,8 @@ def test_chunked_p2g_matches_the_one_point_kernel(chunks):
     (a, box_a), (b, box_b) = _p2g(state, chunks, lanes=False), _p2g(state, chunks, lanes=True)
     assert np.array_equal(box_a, box_b)  # each chunk's node box: lanes past a chunk's end not counted
     assert np.abs(a).max() > 0
+    # every point's mass once, the pads' (copies of the last point) not
+    np.testing.assert_allclose(a[..., 2].sum(), state["mass"].sum(), rtol=1e-5)
     # each copy's sums, point by point in order (measured on x86-64: identical bit for bit)
     for e, name in enumerate(("momentum x", "momentum z", "mass")):
         np.testing.assert_allclose(b[..., e], a[..., e], rtol=0, atol=2e-6 * np.abs(a[..., e]).max(), err_msg=name)
@@ -149,17 +152,18 @@ def test_chunked_p2g_matches_the_one_point_kernel(chunks):
 
 def _relax(state: dict, excess: np.ndarray, lanes: bool) -> dict:
     """The nonlocal fluidity's relaxation of ``state`` with the nodes' excess g - g_loc."""
-    arrs = _arrays(state)
+    pts, _ = _arrays(state)
     ex = ti.ndarray(ti.f32, shape=excess.shape)
     ex.from_numpy(excess.astype(np.float32))
     prm = (1e6 / 2.6, 0.56, 1.0, 1e-3, 2500.0)  # G, mu_s, b, d, rho_s
-    args = [arrs[k] for k in ("x", "sigma", "s_yy", "eps_p", "gdot_p")] + [ex, H, PAD, DT, prm]
+    args = [pts.arrays[k] for k in ("x", "sigma", "s_yy", "eps_p", "gdot_p")] + [ex, H, PAD, DT, prm]
     if lanes:
         with unscalarized():
             fluidity_relax_kernel(lanes=True)(*args)
     else:
         fluidity_relax_kernel()(*args)
-    return {k: arrs[k].to_numpy() for k in ("sigma", "s_yy", "eps_p", "gdot_p")}
+    out = _with_pads(pts)
+    return {k: out[k] for k in ("sigma", "s_yy", "eps_p", "gdot_p")}
 
 
 def test_nonlocal_relaxation_matches_the_one_point_kernel():
@@ -200,14 +204,14 @@ def test_the_volume_factor_takes_exp_where_a_lane_needs_it():
 
 def _sources(state: dict, lanes: bool) -> tuple[np.ndarray, np.ndarray]:
     """The nonlocal fluidity's sources of ``state``, summed over the chunk copies: (src, copy boxes)."""
-    arrs = _arrays(state)
+    pts, _ = _arrays(state)
     chunks = SOURCE_CHUNKS
     parts = ti.Vector.ndarray(3, ti.f32, shape=chunks * NX * NZ)
     box_parts, box = ti.ndarray(ti.i32, shape=(chunks, 4)), ti.ndarray(ti.i32, shape=8)
     box.from_numpy(np.array([0, NX, 0, NZ, 0, 0, 0, 0], np.int32))
     src = ti.Vector.ndarray(3, ti.f32, shape=(NX, NZ))
     prm = (0.56, 1.0, 1e-3, 2500.0)  # mu_s, b, d, rho_s
-    args = [arrs[k] for k in ("x", "mass", "sigma", "s_yy")] + [parts, box_parts, box, src, H, PAD, prm, 1.0]
+    args = [pts.arrays[k] for k in ("x", "mass", "sigma", "s_yy")] + [pts.n, parts, box_parts, box, src, H, PAD, prm, 1.0]
     if lanes:
         with unscalarized():
             fluidity_sources_kernel(True, lanes=True)(*args)
@@ -310,3 +314,4 @@ def test_wheel_run_follows_the_one_point_run():
     np.testing.assert_allclose(bl[:2], bs[:2], rtol=0, atol=1e-6)  # m
     np.testing.assert_allclose(bl[2:], bs[2:], rtol=0, atol=1e-4)  # m/s
     assert np.max(np.abs(xl - xs)) < 1e-5  # m
+

@@ -4,22 +4,25 @@
 import numpy as np
 import taichi as ti
 
+from .particles import get_scalar, get_sym2, get_vec2
+
 
 @ti.kernel
 def guard_scan(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), sigma: ti.types.ndarray(), lx: float, lz: float, margin: float,
-    out: ti.types.ndarray(),
+    x: ti.types.ndarray(), v: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int, lx: float, lz: float,
+    margin: float, out: ti.types.ndarray(),
 ):
-    """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point].
+    """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point] over the n
+    points (block arrays, see particles).
 
     The stress is scanned too: a point's velocity comes back from the grid each step, and with
     fixed-point atomic sums (integers) a NaN does not survive the grid, but its stress keeps it."""
     for k in range(5):
         out[k] = 0.0 if k != 3 and k != 4 else -1.0
-    for p in range(x.shape[0]):
-        xp = x[p]
-        vp = v[p]
-        sp = sigma[p]
+    for p in range(n):
+        xp = get_vec2(x, p)
+        vp = get_vec2(v, p)
+        sp = get_sym2(sigma, p)
         speed = ti.cast(vp.norm(), ti.f64)
         bad = (ti.math.isnan(xp).any() or ti.math.isnan(vp).any() or ti.math.isinf(vp).any()
                or ti.math.isnan(sp).any() or ti.math.isinf(sp).any())
@@ -35,14 +38,15 @@ def guard_scan(
 
 @ti.kernel
 def kinetic_energy_and_mass(
-    v: ti.types.ndarray(), mass: ti.types.ndarray(), out: ti.types.ndarray()
+    v: ti.types.ndarray(), mass: ti.types.ndarray(), n: int, out: ti.types.ndarray()
 ):
-    """out = [sum m |v|^2 / 2 (J/m), sum m (kg/m)] in float64."""
+    """out = [sum m |v|^2 / 2 (J/m), sum m (kg/m)] in float64 over the n points (block arrays)."""
     out[0] = 0.0
     out[1] = 0.0
-    for p in range(v.shape[0]):
-        m = ti.cast(mass[p], ti.f64)
-        vv = ti.cast(v[p].dot(v[p]), ti.f64)
+    for p in range(n):
+        m = ti.cast(get_scalar(mass, p), ti.f64)
+        vp = get_vec2(v, p)
+        vv = ti.cast(vp.dot(vp), ti.f64)
         out[0] += 0.5 * m * vv
         out[1] += m
 

@@ -34,8 +34,9 @@ import taichi as ti
 from . import backend
 from .grid import record_index, union_box
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .transfer import (CHUNK_SPREAD, LANES, add_block_records, add_plastic_strain, any_lane, lane_flags, lane_nodes,
-                       lanes_of, lanes_of_mat, quadratic_weights, stencil_lanes)
+from .particles import LANES, XX, XZ, ZZ, chunk_blocks, get_scalar, get_sym2, get_vec2, set_scalar, set_sym2
+from .transfer import (CHUNK_SPREAD, add_block_records, add_plastic_strain, any_lane, lane_nodes, quadratic_weights,
+                       stencil_lanes)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -63,15 +64,15 @@ def pressure_and_tau(s_xx, s_zz, s_xz, s_yy):
 def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(), nx, ny, h, pad, prm):
     """Base node, weights and m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1) of point p; ``prm`` = (mu_s, b, d, rho_s)."""
     mu_s, b, d, rho_s = prm[0], prm[1], prm[2], prm[3]
-    P, tau = _pressure_and_tau(sigma[p], s_yy[p])
+    P, tau = _pressure_and_tau(get_sym2(sigma, p), get_scalar(s_yy, p))
     dmu, gloc = 0.0 * P, 0.0 * P
     if P > 0.0:
         mu = tau / P
         dmu = ti.abs(mu - mu_s)
         if mu > mu_s:
             gloc = ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu)  # g_loc = sqrt(P/(rho_s d^2)) (mu - mu_s)/(b mu)
-    base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, nx, ny)
-    return base, w, mass[p] * ti.Vector([dmu, dmu * gloc, 1.0])
+    base, fx, w = quadratic_weights(get_vec2(x, p), 1.0 / h, pad, nx, ny)
+    return base, w, get_scalar(mass, p) * ti.Vector([dmu, dmu * gloc, 1.0])
 
 
 @ti.func
@@ -88,20 +89,19 @@ def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.templ
 
 
 @ti.func
-def _source_lanes(p0, last, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
+def _source_lanes(blk, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
                   nx, ny, h, pad, prm):
-    """:func:`_point_source` for the LANES points from p0 (index capped at ``last``), each quantity a
-    vector over them (branch-free): the stencil's base node per axis (floats) and, per node (a, e),
-    the record w m_p (|dmu|, |dmu| g_loc, 1) it receives."""
+    """:func:`_point_source` for the LANES points of block ``blk``, each quantity a vector over them
+    (branch-free): the stencil's base node per axis (floats) and, per node (a, e), the record
+    w m_p (|dmu|, |dmu| g_loc, 1) it receives."""
     mu_s, b, d, rho_s = prm[0], prm[1], prm[2], prm[3]
-    P, tau = pressure_and_tau(lanes_of_mat(sigma, p0, last, 0, 0), lanes_of_mat(sigma, p0, last, 1, 1),
-                              lanes_of_mat(sigma, p0, last, 0, 1), lanes_of(s_yy, p0, last))
+    P, tau = pressure_and_tau(sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0])
     mu = tau / P
     dmu = ti.select(P > 0.0, ti.max(mu - mu_s, mu_s - mu), 0.0)  # |mu - mu_s| (no ti.abs on such a vector)
     gloc = ti.select((P > 0.0) & (mu > mu_s), ti.sqrt(P / rho_s) / d * (mu - mu_s) / (b * mu), 0.0)
-    m = lanes_of(mass, p0, last)
+    m = mass[blk, 0]
     val = (m * dmu, m * (dmu * gloc), m * 1.0)
-    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, p0, last, h, pad, nx, ny)
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, nx, ny)
     records = [(w0[a] * w1[e] * val[0], w0[a] * w1[e] * val[1], w0[a] * w1[e] * val[2])
                for a in ti.static(range(3)) for e in ti.static(range(3))]
     return b0, b1, records
@@ -135,13 +135,14 @@ def _make_sources_kernel(mode: int, lanes: bool):
 
     @ti.kernel
     def fluidity_sources(
-        x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
+        x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), n: int,
         parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
         h: float, pad: int, prm: ti.types.vector(4, float), scale: float,
     ):
-        """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1); ``prm`` = (mu_s, b, d, rho_s).
+        """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1) over the n points (block arrays,
+        see particles); ``prm`` = (mu_s, b, d, rho_s).
 
-        Chunked (CPU): each chunk of points scatters serially into its own copy of ``parts`` (as the
+        Chunked (CPU): each chunk of points (whole blocks, ``particles.chunk_blocks``) scatters serially into its own copy of ``parts`` (as the
         momentum P2G does), and the copies are summed in order: the sums do not depend on the
         threads' schedule, so a run and its restart give the same numbers. Atomic (GPU): one copy.
         The copies are zeroed as they are read, ready for the next step (they start at zero:
@@ -151,25 +152,23 @@ def _make_sources_kernel(mode: int, lanes: bool):
         zero already.
         """
         nc, nx, ny = box_parts.shape[0], src.shape[0], src.shape[1]
-        n = x.shape[0]
         if ti.static(chunked):
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside
                 if q % CHUNK_SPREAD == 0:
                     c = q // CHUNK_SPREAD
-                    start, end = c * n // nc, (c + 1) * n // nc
+                    first, end = chunk_blocks(c, nc, x.shape[0])
                     if ti.static(lanes):
                         i0, i1, j0, j1 = nx, 0, ny, 0
-                        for blk in range((end - start + LANES - 1) // LANES):
-                            b0, b1, records = _source_lanes(start + blk * LANES, end - 1, x, mass, sigma, s_yy,
-                                                            nx, ny, h, pad, prm)
-                            i0, i1, j0, j1 = add_block_records(parts, c, start + blk * LANES, end, b0, b1, records,
+                        for blk in range(first, end):
+                            b0, b1, records = _source_lanes(blk, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
+                            i0, i1, j0, j1 = add_block_records(parts, c, blk * LANES, n, b0, b1, records,
                                                                nx, ny, i0, i1, j0, j1)
                         box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = i0, i1, j0, j1
                     else:
                         lo = ti.Vector([nx, ny])
                         hi = ti.Vector([0, 0])
-                        for p in range(start, end):
+                        for p in range(first * LANES, ti.min(end * LANES, n)):
                             base = _scatter_source(p, c, x, mass, sigma, s_yy, parts, nx, ny, h, pad, prm, PLAIN, scale)
                             lo, hi = ti.min(lo, base), ti.max(hi, base + 3)
                         box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = lo[0], hi[0], lo[1], hi[1]
@@ -296,47 +295,42 @@ def _make_relax_kernel(lanes: bool):
         excess g - g_loc of the nodes (the sweeps' kernel writes it) interpolated at it;
         dgamma = (tau* - tau) / G. ``prm`` = (G, mu_s, b, d, rho_s). A point with P <= 0 or tau = 0 is
         left as it is."""
-        n = x.shape[0]
         if ti.static(not lanes):
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
-            for p in range(n):
-                sig, syy = sigma[p], s_yy[p]
+            for p in range(x.shape[0] * LANES):  # every slot of the blocks, as the G2P
+                sig, syy = get_sym2(sigma, p), get_scalar(s_yy, p)
                 P, tau = _pressure_and_tau(sig, syy)
                 if P > 0.0 and tau > 0.0:
-                    base, fx, w = quadratic_weights(x[p], 1.0 / h, pad, excess.shape[0], excess.shape[1])
+                    base, fx, w = quadratic_weights(get_vec2(x, p), 1.0 / h, pad, excess.shape[0], excess.shape[1])
                     ex = 0.0 * P
                     for a, c in ti.static(ti.ndrange(3, 3)):
                         ex += w[a][0] * w[c][1] * excess[base[0] + a, base[1] + c]
                     scale = relaxed_tau(tau, P, ex, dt, prm) / tau
                     a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
-                    sigma[p] = ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]])
-                    s_yy[p] = a_yy * scale - P
+                    set_sym2(sigma, p, ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]]))
+                    set_scalar(s_yy, p, a_yy * scale - P)
                     add_plastic_strain(eps_p, gdot_p, p, tau * (1.0 - scale) / prm[0], dt)
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
-            for blk in range((n + LANES - 1) // LANES):
-                p0 = blk * LANES
-                s_xx, s_zz = lanes_of_mat(sigma, p0, n - 1, 0, 0), lanes_of_mat(sigma, p0, n - 1, 1, 1)
-                s_xz, syy = lanes_of_mat(sigma, p0, n - 1, 0, 1), lanes_of(s_yy, p0, n - 1)
+            for blk in range(x.shape[0]):
+                s_xx, s_zz, s_xz, syy = sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0]
                 P, tau = pressure_and_tau(s_xx, s_zz, s_xz, syy)
                 stressed = (P > 0.0) & (tau > 0.0)
                 if any_lane(stressed):
-                    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, p0, n - 1, h, pad, excess.shape[0], excess.shape[1])
+                    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, excess.shape[0], excess.shape[1])
                     i0, i1 = lane_nodes(b0), lane_nodes(b1)
-                    flags = lane_flags(stressed)  # 1.0 / 0.0: a mask's lanes are read through ti.select
                     ex = 0.0 * P
                     for a, c in ti.static(ti.ndrange(3, 3)):
                         ex += w0[a] * w1[c] * ti.Vector([excess[i0[k] + a, i1[k] + c] for k in ti.static(range(LANES))])
                     scale = relaxed_tau(tau, P, ex, dt, prm) / tau
                     dgamma = tau * (1.0 - scale) / prm[0]
-                    t_xx, t_zz, t_yy = (s_xx + P) * scale - P, (s_zz + P) * scale - P, (syy + P) * scale - P
-                    t_xz = s_xz * scale
-                    for k in ti.static(range(LANES)):
-                        p = p0 + k
-                        if p < n and flags[k] > 0.0:
-                            sigma[p] = ti.Matrix([[t_xx[k], t_xz[k]], [t_xz[k], t_zz[k]]])
-                            s_yy[p] = t_yy[k]
-                            add_plastic_strain(eps_p, gdot_p, p, dgamma[k], dt)
+                    # the stressed lanes flow; the others keep their state (ti.select: their NaN scale is dropped)
+                    sigma[blk, XX] = ti.select(stressed, (s_xx + P) * scale - P, s_xx)
+                    sigma[blk, ZZ] = ti.select(stressed, (s_zz + P) * scale - P, s_zz)
+                    sigma[blk, XZ] = ti.select(stressed, s_xz * scale, s_xz)
+                    s_yy[blk, 0] = ti.select(stressed, (syy + P) * scale - P, syy)
+                    eps_p[blk, 0] = ti.select(stressed, eps_p[blk, 0] + dgamma, eps_p[blk, 0])
+                    gdot_p[blk, 0] = ti.select(stressed, dgamma / dt, gdot_p[blk, 0])
 
     return fluidity_relax
 

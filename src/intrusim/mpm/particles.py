@@ -1,11 +1,28 @@
-"""Material points: struct-of-arrays state held in Taichi ndarrays (2D plane strain, per unit width)."""
+"""Material points: their state in Taichi ndarrays, in blocks of LANES points (2D plane strain, per unit width).
 
-from __future__ import annotations
+Each field is an ndarray of shape (blocks, components) whose element is a vector of LANES floats:
+``a[b, c]`` holds component c of the points b * LANES ... b * LANES + LANES - 1 (an array of
+structures of arrays). The CPU's vectorised kernels (``backend.simd_lanes``) read and write a
+block's component as one vector load or store. With one array element per point (the layout before
+session 48) every lane is its own load and insert; a G2P's particle reads and writes took 1.35-2.34x
+as long on 2 threads at 64k-1M points (``benchmarks/bench_layout.py``). A one-point kernel (a
+GPU's, and the reference) addresses point p as ``a[p // LANES, c][p % LANES]`` (:func:`get_vec2`
+and siblings). The last block's missing points ("pads") are copies of the last point: a kernel that
+updates points updates every slot of the blocks, so they stay copies; a kernel that sums over points
+(P2G, the fluidity's sources, the guards) stops at the n points; :meth:`Particles.to_numpy` drops them.
+
+Components: x, v (x, z); C row by row (C_xx, C_xz, C_zx, C_zz); sigma, which is symmetric, as
+(sigma_xx, sigma_zz, sigma_xz) (``XX, ZZ, XZ``); the scalars as one component.
+"""
+
 
 import numpy as np
 import taichi as ti
 
 from .backend import info
+
+LANES = 8  # points per block (8 f32: Taichi's CPU target computes them as two SSE registers)
+XX, ZZ, XZ = 0, 1, 2  # sigma's components in its block array
 
 #: name -> (shape suffix, description with unit); order defines the checkpoint layout
 FIELDS: dict[str, tuple[tuple[int, ...], str]] = {
@@ -14,15 +31,53 @@ FIELDS: dict[str, tuple[tuple[int, ...], str]] = {
     "C": ((2, 2), "APIC affine matrix = velocity gradient dv_i/dx_j, 1/s"),
     "mass": ((), "mass per unit width, kg/m"),
     "vol": ((), "area (volume per unit width), m^2"),
-    "sigma": ((2, 2), "in-plane Cauchy stress, Pa"),
+    "sigma": ((2, 2), "in-plane Cauchy stress (symmetric), Pa"),
     "s_yy": ((), "out-of-plane normal stress, Pa"),
     "eps_p": ((), "equivalent plastic shear strain, -"),
     "gdot_p": ((), "equivalent plastic shear strain rate, 1/s"),
 }
+COMPONENTS = {"x": 2, "v": 2, "C": 4, "sigma": 3}  # stored components per point (others: 1)
+
+
+def n_blocks(n: int) -> int:
+    """Blocks of LANES points holding n points."""
+    return (int(n) + LANES - 1) // LANES
+
+
+def _components(name: str, a: np.ndarray) -> np.ndarray:
+    """(n, components) of a field given in its FIELDS shape (sigma: its symmetric part's 3 components)."""
+    if name == "sigma":
+        return np.stack([a[:, 0, 0], a[:, 1, 1], 0.5 * (a[:, 0, 1] + a[:, 1, 0])], axis=1)
+    return a.reshape(len(a), -1)
+
+
+def _field(name: str, comps: np.ndarray) -> np.ndarray:
+    """The field in its FIELDS shape from its (n, components)."""
+    n = len(comps)
+    if name == "sigma":
+        out = np.empty((n, 2, 2), comps.dtype)
+        out[:, 0, 0], out[:, 1, 1] = comps[:, XX], comps[:, ZZ]
+        out[:, 0, 1] = out[:, 1, 0] = comps[:, XZ]
+        return out
+    return comps.reshape((n, *FIELDS[name][0]))
+
+
+def to_blocks(comps: np.ndarray) -> np.ndarray:
+    """(n, k) per-point components -> (blocks, k, LANES), the last block padded with the last point."""
+    n, k = comps.shape
+    pad = n_blocks(n) * LANES - n
+    if pad:
+        comps = np.concatenate([comps, np.repeat(comps[-1:], pad, axis=0)])
+    return np.ascontiguousarray(comps.reshape(-1, LANES, k).transpose(0, 2, 1))
+
+
+def from_blocks(blocks: np.ndarray, n: int) -> np.ndarray:
+    """(blocks, k, LANES) -> the (n, k) components of the first n points."""
+    return blocks.transpose(0, 2, 1).reshape(-1, blocks.shape[1])[:n]
 
 
 class Particles:
-    """Particle arrays on the Taichi device.
+    """Particle arrays on the Taichi device, in blocks of LANES points (see the module's text).
 
     Parameters
     ----------
@@ -35,15 +90,10 @@ class Particles:
         self.n = int(len(data["x"]))
         if self.n == 0:
             raise ValueError("no particles: the bed is empty")
-        self.arrays: dict[str, ti.Ndarray] = {}
-        for name, (shape, _) in FIELDS.items():
-            if shape == ():
-                arr = ti.ndarray(real, shape=self.n)
-            elif len(shape) == 1:
-                arr = ti.Vector.ndarray(shape[0], real, shape=self.n)
-            else:
-                arr = ti.Matrix.ndarray(shape[0], shape[1], real, shape=self.n)
-            self.arrays[name] = arr
+        self.blocks = n_blocks(self.n)
+        self.arrays: dict[str, ti.Ndarray] = {
+            name: ti.Vector.ndarray(LANES, real, shape=(self.blocks, COMPONENTS.get(name, 1))) for name in FIELDS
+        }
         self.load({k: data.get(k, np.zeros((self.n, *FIELDS[k][0]))) for k in FIELDS})
 
     def __getattr__(self, name: str):
@@ -53,14 +103,80 @@ class Particles:
         raise AttributeError(name)
 
     def load(self, data: dict[str, np.ndarray]) -> None:
-        """Copy host arrays into the device arrays."""
+        """Copy host arrays (FIELDS shapes, n points each) into the device arrays."""
         dtype = info().np_real
         for name, arr in data.items():
-            self.arrays[name].from_numpy(np.ascontiguousarray(arr, dtype=dtype))
+            arr = np.asarray(arr)
+            if arr.shape != (self.n, *FIELDS[name][0]):
+                raise ValueError(f"particle field {name!r}: shape {arr.shape}, expected {(self.n, *FIELDS[name][0])}")
+            self.arrays[name].from_numpy(to_blocks(_components(name, arr.astype(dtype, copy=False))))
 
-    def to_numpy(self, names: list[str] | None = None) -> dict[str, np.ndarray]:
-        """Copy device arrays to the host (a synchronisation: do it only at output times)."""
-        return {k: self.arrays[k].to_numpy() for k in (names or list(FIELDS))}
+    def to_numpy(self, names: list[str] | None = None, pads: bool = False) -> dict[str, np.ndarray]:
+        """Copy device arrays to the host in FIELDS shapes (a synchronisation: do it only at output times);
+        ``pads``: with the last block's pads after the n points (blocks x LANES rows)."""
+        rows = self.blocks * LANES if pads else self.n
+        return {k: _field(k, from_blocks(self.arrays[k].to_numpy(), rows)) for k in (names or list(FIELDS))}
+
+
+# ---------------------------------------------------------------- one point of the block arrays
+@ti.func
+def get_scalar(a: ti.template(), p):
+    """Point p's value of a one-component field."""
+    return a[p // LANES, 0][p % LANES]
+
+
+@ti.func
+def set_scalar(a: ti.template(), p, value):
+    a[p // LANES, 0][p % LANES] = value
+
+
+@ti.func
+def get_vec2(a: ti.template(), p):
+    """Point p's (x, z) vector (x, v)."""
+    b, k = p // LANES, p % LANES
+    return ti.Vector([a[b, 0][k], a[b, 1][k]])
+
+
+@ti.func
+def set_vec2(a: ti.template(), p, value):
+    b, k = p // LANES, p % LANES
+    a[b, 0][k], a[b, 1][k] = value[0], value[1]
+
+
+@ti.func
+def get_mat2(a: ti.template(), p):
+    """Point p's 2 x 2 matrix stored row by row (C)."""
+    b, k = p // LANES, p % LANES
+    return ti.Matrix([[a[b, 0][k], a[b, 1][k]], [a[b, 2][k], a[b, 3][k]]])
+
+
+@ti.func
+def set_mat2(a: ti.template(), p, value):
+    b, k = p // LANES, p % LANES
+    a[b, 0][k], a[b, 1][k], a[b, 2][k], a[b, 3][k] = value[0, 0], value[0, 1], value[1, 0], value[1, 1]
+
+
+@ti.func
+def get_sym2(a: ti.template(), p):
+    """Point p's symmetric 2 x 2 matrix from its (xx, zz, xz) components (sigma)."""
+    b, k = p // LANES, p % LANES
+    return ti.Matrix([[a[b, XX][k], a[b, XZ][k]], [a[b, XZ][k], a[b, ZZ][k]]])
+
+
+@ti.func
+def set_sym2(a: ti.template(), p, value):
+    """Store a symmetric matrix's (xx, zz, xz) (its [0, 1] entry as xz)."""
+    b, k = p // LANES, p % LANES
+    a[b, XX][k], a[b, ZZ][k], a[b, XZ][k] = value[0, 0], value[1, 1], value[0, 1]
+
+
+@ti.func
+def chunk_blocks(c, n_chunks, blocks):
+    """Blocks [first, end) of chunk c of n_chunks (a whole number of blocks each, so that a chunk's
+    vectorised loop and its one-point loop cover the same points)."""
+    return c * blocks // n_chunks, (c + 1) * blocks // n_chunks
+
+
 
 
 def split_points(arrays: dict[str, np.ndarray], spacing: float, factor: int) -> dict[str, np.ndarray]:

@@ -137,7 +137,7 @@ class Solver:
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
             launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, lanes), (
-                p.x, p.mass, p.sigma, p.s_yy, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
+                p.x, p.mass, p.sigma, p.s_yy, p.n, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
                 f.fixed_scale or 1.0), unscalarized=lanes)]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
@@ -178,7 +178,7 @@ class Solver:
         """Stop with a diagnosis (after a failure checkpoint) on NaN, escape or CFL breach."""
         lx, lz = self.cfg.domain.size
         p = self.particles
-        guard_scan(p.x, p.v, p.sigma, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
+        guard_scan(p.x, p.v, p.sigma, p.n, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
         if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
             return
@@ -193,7 +193,7 @@ class Solver:
 
     def grain_energy_and_mass(self) -> tuple[float, float]:
         """Kinetic energy (J) and mass (kg) of the grains, 3D via the first intruder's width (else per m)."""
-        kinetic_energy_and_mass(self.particles.v, self.particles.mass, self._scratch)
+        kinetic_energy_and_mass(self.particles.v, self.particles.mass, self.particles.n, self._scratch)
         out = self._scratch.to_numpy()
         width = self.intruders[0].width if self.intruders else 1.0
         return float(out[0]) * width, float(out[1]) * width
