@@ -284,7 +284,7 @@ class BackendConfig(_Model):
         True,
         description="CPU: the G2P kernel (velocity, position, density, stress), the chunked P2G and "
         "the nonlocal fluidity's sources and relaxation compute 8 points at once as vectors (SIMD); "
-        "False: one point per loop iteration (the reference; a GPU's always)",
+        "False: one point per loop iteration (the reference; a GPU's always, and float64's)",
     )
 
 

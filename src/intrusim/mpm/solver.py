@@ -90,7 +90,9 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes  # the point kernels vectorised (simd_lanes)
+        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
+        # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
+        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
