@@ -32,7 +32,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .grid import record_index, union_box
+from .grid import make_record, record_index, record_width, union_box, zero_record
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
 from .particles import LANES, XX, XZ, ZZ, chunk_blocks, get_scalar, get_sym2, get_vec2, set_scalar, set_sym2
 from .transfer import (CHUNK_SPREAD, add_block_records, add_plastic_strain, any_lane, lane_nodes, quadratic_weights,
@@ -84,7 +84,8 @@ def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.templ
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
     first = record_index(c, base[0], base[1], nx, ny)
     for a, e in ti.static(ti.ndrange(3, 3)):
-        scatter_add(parts, first + a * ny + e, w[a][0] * w[e][1] * val, mode, scale)
+        r = w[a][0] * w[e][1] * val
+        scatter_add(parts, first + a * ny + e, make_record(parts, r[0], r[1], r[2]), mode, scale)
     return base
 
 
@@ -116,7 +117,7 @@ def _sum_copies(parts: ti.template(), src: ti.template(), i, j, nc, nx, ny, inv_
         k = record_index(c, i, j, nx, ny)
         rec = parts[k]  # float: the backend's real type (a no-op on real copies)
         total += ti.Vector([ti.cast(rec[0], float), ti.cast(rec[1], float), ti.cast(rec[2], float)]) * inv_scale
-        parts[k][0], parts[k][1], parts[k][2] = 0, 0, 0
+        zero_record(parts, k)
     src[i, j] = total
 
 
@@ -350,9 +351,9 @@ class FluidityField:
             raise ValueError("chunked sources sum in a fixed order already: no fixed point")
         self.fixed_scale = None if fixed_scale is None else float(fixed_scale)  # one copy of 64-bit integers
         copies = SOURCE_CHUNKS if self.chunked else 1  # private copies (CPU) or one with atomic adds (GPU)
-        # one (|dmu|, |dmu| g_loc, 1)-record (a 3-vector) per node and copy (grid.record_index)
+        # one (|dmu|, |dmu| g_loc, 1)-record per node and copy (grid.record_index, grid.record_width)
         dtype = real if self.fixed_scale is None else ti.i64
-        self.parts = ti.Vector.ndarray(3, dtype, shape=copies * self.shape[0] * self.shape[1])
+        self.parts = ti.Vector.ndarray(record_width(self.chunked), dtype, shape=copies * self.shape[0] * self.shape[1])
         self.parts.fill(0)  # the sources' kernel leaves them zeroed after each step
         self.box_parts = ti.ndarray(ti.i32, shape=(copies, 4))
         self.box = ti.ndarray(ti.i32, shape=8)

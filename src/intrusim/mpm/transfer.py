@@ -11,7 +11,7 @@ import taichi as ti
 
 from . import backend
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
-from .grid import record_index
+from .grid import make_record, record_index
 from .particles import (LANES, XX, XZ, ZZ, chunk_blocks, get_mat2, get_scalar, get_sym2, get_vec2, set_mat2, set_scalar,
                         set_sym2, set_vec2)
 
@@ -69,7 +69,7 @@ def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.t
         for b in ti.static(range(3)):
             weight = w[a][0] * w[b][1]
             q = qa + b * cb
-            scatter_add(gmp, first + a * ny + b, ti.Vector([weight * q[0], weight * q[1], weight * mp]), mode, scale)
+            scatter_add(gmp, first + a * ny + b, make_record(gmp, weight * q[0], weight * q[1], weight * mp), mode, scale)
 
 
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
@@ -170,7 +170,7 @@ def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(),
 @ti.func
 def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, lo0, hi0, lo1, hi1):
     """The 9 records of each lane of a block (points p0 ... p0 + LANES - 1 below ``end``), point after
-    point, into copy c of ``gmp`` (3-vector records: one vector load, add and store per node) at their
+    point, into copy c of ``gmp`` (one vector load, add and store per node, ``grid.record_width``) at their
     base nodes (b0, b1); returns the node box (i0, i1, j0, j1) widened to them."""
     for k in ti.static(range(LANES)):
         if p0 + k < end:  # the last block's pads (copies of the last point) are not added
@@ -179,7 +179,7 @@ def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, l
             for a in ti.static(range(3)):
                 for b in ti.static(range(3)):
                     r, rec = first + a * ny + b, records[a * 3 + b]
-                    gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k]])
+                    gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
             lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
             hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
     return lo0, hi0, lo1, hi1
