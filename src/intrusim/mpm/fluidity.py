@@ -78,7 +78,7 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 @ti.func
 def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
                     parts: ti.template(), nx, ny, h, pad, prm, mode: ti.template(), scale):
-    """Point p's sources into copy c of ``parts`` (3-vector records, ``grid.record_index``: the stencil's
+    """Point p's sources into copy c of ``parts`` (records, ``grid.record_index``, ``grid.record_width``: the stencil's
     first node addressed once, the other 8 at fixed offsets), by ``fixed_point.scatter_add`` (PLAIN: one
     loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
@@ -143,9 +143,10 @@ def _make_sources_kernel(mode: int, lanes: bool):
         """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1) over the n points (block arrays,
         see particles); ``prm`` = (mu_s, b, d, rho_s).
 
-        Chunked (CPU): each chunk of points (whole blocks, ``particles.chunk_blocks``) scatters serially into its own copy of ``parts`` (as the
-        momentum P2G does), and the copies are summed in order: the sums do not depend on the
-        threads' schedule, so a run and its restart give the same numbers. Atomic (GPU): one copy.
+        Chunked (CPU): each chunk of points (whole blocks, ``particles.chunk_blocks``) scatters
+        serially into its own copy of ``parts`` (as the momentum P2G does), and the copies are summed
+        in order: the sums do not depend on the threads' schedule, so a run and its restart give the
+        same numbers. Atomic (GPU): one copy.
         The copies are zeroed as they are read, ready for the next step (they start at zero:
         ``FluidityField``). Only the nodes in the box the points reach this step or reached the
         last one are summed (``box``: [0:4] this step's node box [i0, i1, j0, j1), [4:8] its union

@@ -33,9 +33,9 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
-    ``gmp`` is the array of the grid copies' 3-vector records (``grid.record_index``); the stencil's
-    first record is addressed once per point and the other 8 at fixed offsets from it (P2G 1.2-1.6x
-    faster on 2 threads than a 3-index address per node, same sums: docs/performance.md).
+    ``gmp`` is the array of the grid copies' records (``grid.record_index``, ``grid.record_width``);
+    the stencil's first record is addressed once per point and the other 8 at fixed offsets from it
+    (P2G 1.2-1.6x faster on 2 threads than a 3-index address per node, same sums: docs/performance.md).
     ``mode``: PLAIN read-modify-write (one loop iteration owns copy ``c``), ATOMIC float adds
     (several threads share copy ``c``), or FIXED: atomic adds of round(value * ``scale``) into 64-bit
     integers (exact sums, the same in any order). Returns the base node of the 3 x 3 stencil.
@@ -99,8 +99,8 @@ def _make_p2g_kernel(mode: int, lanes: bool):
         gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
         scale: float,
     ):
-        """P2G of the n points (block arrays, see particles) into the grid copies ``gmp`` (3-vector
-        records, see scatter_point; a grid of nx x ny nodes); ``box[c]`` = node box [i0, i1, j0, j1)
+        """P2G of the n points (block arrays, see particles) into the grid copies ``gmp`` (records, see
+        scatter_point; a grid of nx x ny nodes); ``box[c]`` = node box [i0, i1, j0, j1)
         copy c received.
 
         Chunked (CPU): one private copy per chunk of points (whole blocks, ``particles.chunk_blocks``),
