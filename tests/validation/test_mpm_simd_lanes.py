@@ -304,6 +304,11 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
     assert len(g2p) == 1 and len(p2g) == 1
     assert "@llvm.sqrt.v8f32" in g2p[0] and "@llvm.sqrt.f32(" not in g2p[0]
     assert "@llvm.floor.v8f32" in p2g[0] and "@llvm.floor.f32(" not in p2g[0]
+    # the particles in blocks of 8 (particles.py): each component of a block is one vector load or
+    # store, G2P reads 9 (x 2, m, V, sigma 3, s_yy, eps_p) and writes 15, P2G reads 13 (x 2, v 2, C 4,
+    # m, V, sigma 3); P2G adds into 9 nodes per point as one 4-wide record each (grid.record_width)
+    assert g2p[0].count("load <8 x float>") == 9 and g2p[0].count("store <8 x float>") == 15
+    assert p2g[0].count("load <8 x float>") == 13 and p2g[0].count("load <4 x float>") == 9 * LANES
 
 
 def test_wheel_run_follows_the_one_point_run():
