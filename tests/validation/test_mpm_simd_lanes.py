@@ -194,7 +194,7 @@ def _exp_lanes(x: ti.types.ndarray(), out: ti.types.ndarray()):
 
 def test_the_volume_factor_takes_exp_where_a_lane_needs_it():
     # exp(dt tr L): a polynomial near 0, ti.exp from |x| = 0.01 on, lane by lane; blocks that mix both.
-    # Taichi 1.7.4 reads an unscalarised mask's .any() as false whatever it holds (transfer.lane_flags):
+    # Taichi 1.7.4 reads an unscalarised mask's .any() as false whatever it holds (transfer.any_lane):
     # the polynomial alone would be 1.4e-3 off at x = 1
     ensure_initialized(precision="f32")
     x = np.array([0.0, 1e-3, -5e-3, 0.5, 1e-4, -0.3, 1.0, 2e-3] + [1e-4] * 7 + [-1.0], np.float32)

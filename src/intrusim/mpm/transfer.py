@@ -276,13 +276,12 @@ def lane_nodes(base):
 
 
 @ti.func
-def g2p_lanes(x0, x1, gv: ti.template(), h, pad):
-    """:func:`g2p_point` for LANES points at once, each component a vector over the lanes:
+def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad):
+    """:func:`g2p_point` for the LANES points of block ``blk``, each component a vector over them:
     returns (v_x, v_z) and the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order).
     The grid is read one lane at a time (a gather); everything else is vector arithmetic."""
     inv_h = 1.0 / h
-    b0, f0, w0 = quadratic_weights_lanes(x0 * inv_h + pad, gv.shape[0])
-    b1, f1, w1 = quadratic_weights_lanes(x1 * inv_h + pad, gv.shape[1])
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, gv.shape[0], gv.shape[1])
     i0, i1 = lane_nodes(b0), lane_nodes(b1)
     zero = ti.Vector([0.0] * LANES)
     s0x, s0z, sax, saz, sbx, sbz = zero, zero, zero, zero, zero, zero
@@ -323,17 +322,11 @@ def add_plastic_strain_lanes(eps_p: ti.template(), gdot_p: ti.template(), blk, d
 
 
 @ti.func
-def lane_flags(mask):
-    """A lane mask as a vector of 1.0 / 0.0. In an unscalarised kernel (Taichi 1.7.4) a mask's
-    ``.any()`` and its elements read one by one come out false whatever the lanes hold; ``ti.select``
-    on the mask is right, so the mask is read through it."""
-    return ti.select(mask, 1.0, 0.0)
-
-
-@ti.func
 def any_lane(mask) -> bool:
-    """True if any lane of ``mask`` is set (see :func:`lane_flags`)."""
-    flags = lane_flags(mask)
+    """True if any lane of ``mask`` is set. In an unscalarised kernel (Taichi 1.7.4) a mask's
+    ``.any()`` and its elements read one by one come out false whatever the lanes hold; ``ti.select``
+    on the mask is right, so the mask is read through it, as a vector of 1.0 / 0.0."""
+    flags = ti.select(mask, 1.0, 0.0)
     total = 0.0
     for k in ti.static(range(LANES)):
         total += flags[k]
@@ -391,10 +384,11 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
         if ti.static(not lanes):
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(x.shape[0] * LANES):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
-                new_v, L = g2p_point(get_vec2(x, p), gv, h, pad)
+                xp = get_vec2(x, p)
+                new_v, L = g2p_point(xp, gv, h, pad)
                 set_vec2(v, p, new_v)
                 set_mat2(C, p, L)
-                set_vec2(x, p, get_vec2(x, p) + dt * new_v)
+                set_vec2(x, p, xp + dt * new_v)
                 m = get_scalar(mass, p)
                 vp = ti.min(get_scalar(vol, p) * exp_near_zero(dt * L.trace()), m * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
                 set_scalar(vol, p, vp)
@@ -405,8 +399,7 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range(x.shape[0]):
-                x0, x1 = x[blk, 0], x[blk, 1]
-                v0, v1, l00, l01, l10, l11 = g2p_lanes(x0, x1, gv, h, pad)
+                v0, v1, l00, l01, l10, l11 = g2p_lanes(x, blk, gv, h, pad)
                 m = mass[blk, 0]
                 # v_p *= exp(dt tr D), <= m_p / rho_floor
                 vp = ti.min(vol[blk, 0] * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
@@ -414,7 +407,7 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
                                                      l00, l01, l10, l11, m / vp, dt, prm)
                 v[blk, 0], v[blk, 1] = v0, v1
                 C[blk, 0], C[blk, 1], C[blk, 2], C[blk, 3] = l00, l01, l10, l11
-                x[blk, 0], x[blk, 1] = x0 + dt * v0, x1 + dt * v1
+                x[blk, 0], x[blk, 1] = x[blk, 0] + dt * v0, x[blk, 1] + dt * v1
                 vol[blk, 0] = vp
                 sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ] = t_xx, t_zz, t_xz
                 s_yy[blk, 0] = t_yy
