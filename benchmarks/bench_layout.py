@@ -25,8 +25,6 @@ import time
 import numpy as np
 
 SIZES = (64_000, 160_000, 1_000_000)
-READ = ("x", "mass", "vol", "sigma", "s_yy", "eps_p")
-COMPONENTS = {"x": 2, "v": 2, "C": 4, "mass": 1, "vol": 1, "sigma": 3, "s_yy": 1, "eps_p": 1, "gdot_p": 1}
 
 
 def kernels():
@@ -83,29 +81,30 @@ def measure(threads: int, rounds: int) -> list[dict]:
     import taichi as ti
 
     from intrusim.mpm.backend import ensure_initialized, unscalarized
-    from intrusim.mpm.particles import LANES, from_blocks, to_blocks
+    from intrusim.mpm.particles import COMPONENTS, FIELDS, LANES, from_blocks, to_blocks
 
     ensure_initialized("cpu", "f32", threads)
+    widths = {k: COMPONENTS.get(k, 1) for k in FIELDS}  # the solver's fields, in the kernels' argument order
     per_point, blocks = kernels()
     rows = []
     for n in SIZES:
         rng = np.random.default_rng(0)
-        host = {k: rng.uniform(1.0, 2.0, (n, c)).astype(np.float32) for k, c in COMPONENTS.items()}
-        flat = {k: ti.Vector.ndarray(c, ti.f32, shape=n) for k, c in COMPONENTS.items()}
-        blk = {k: ti.Vector.ndarray(LANES, ti.f32, shape=(n // LANES, c)) for k, c in COMPONENTS.items()}
+        host = {k: rng.uniform(1.0, 2.0, (n, c)).astype(np.float32) for k, c in widths.items()}
+        flat = {k: ti.Vector.ndarray(c, ti.f32, shape=n) for k, c in widths.items()}
+        blk = {k: ti.Vector.ndarray(LANES, ti.f32, shape=(n // LANES, c)) for k, c in widths.items()}
 
         def reset():
-            for k in COMPONENTS:
+            for k in widths:
                 flat[k].from_numpy(host[k])
                 blk[k].from_numpy(to_blocks(host[k]))
 
-        args_flat = [flat[k] for k in COMPONENTS]
-        args_blk = [blk[k] for k in COMPONENTS]
+        args_flat = [flat[k] for k in widths]
+        args_blk = [blk[k] for k in widths]
         reset()
         with unscalarized():  # both compiled as vector code, as the solver's G2P
             per_point(*args_flat)
             blocks(*args_blk)
-        mismatch = max(float(np.abs(flat[k].to_numpy() - from_blocks(blk[k].to_numpy(), n)).max()) for k in COMPONENTS)
+        mismatch = max(float(np.abs(flat[k].to_numpy() - from_blocks(blk[k].to_numpy(), n)).max()) for k in widths)
         reset()
 
         def timed(kernel, args, count):
