@@ -90,3 +90,24 @@ def test_plate_drag_follows_static_plus_inertial_law():
     rft = make_force_model("rft", s.rft_shape(), xi=s.force_model.xi)
     fx = -rft.wrench(s.state(0.03, 0.1)).fx
     assert K == pytest.approx(fx / 0.03, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", ["wheel", "small-wheel"])
+def test_at_10_rpm_the_papers_drft_is_quasistatic_rft(name):
+    """At 10 RPM the structural drop r (r omega^2 / g) is 1.3 mm (large wheel), 0.3 mm (small).
+
+    So the paper's DRFT, with either reading of its rear zone, is quasistatic RFT there: v within
+    0.5 % and sinkage within 0.2 mm. The 10 RPM misses against every MPM we ran (18 mm of sinkage
+    with the contact band, +51 % in v without it; docs/results.md) are RFT's, which no reading of
+    the structural correction can move.
+    """
+    sc = get_scenario(name)
+    assert sc.force_model.structural == "wheel-rear-half" and sc.force_model.psi_slope == 1.0
+    dh = sc.radius * (sc.radius * (10.0 * RPM) ** 2 / 9.8)
+    assert dh < 1.4e-3
+    rft = sweep_omega(sc, "rft", [10.0], parallel=False, progress=False)
+    for structural in ("wheel-rear-half", "wheel-rear-half-effective"):
+        fm = sc.force_model.model_copy(update={"structural": structural})
+        drft = sweep_omega(sc.model_copy(update={"force_model": fm}), "drft", [10.0], parallel=False, progress=False)
+        assert drft.column("velocity")[0] == pytest.approx(rft.column("velocity")[0], rel=5e-3), structural
+        assert abs(drft.column("sinkage")[0] - rft.column("sinkage")[0]) < 2e-4, structural
