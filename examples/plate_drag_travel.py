@@ -46,20 +46,26 @@ def excess_lambda(f_fast: np.ndarray, f_slow: np.ndarray, v_fast: float, v_slow:
     return (np.asarray(f_fast, float) - np.asarray(f_slow, float)) / (rho * area * (v_fast**2 - v_slow**2))
 
 
+def _cfl_tag(args: argparse.Namespace) -> str:
+    """The time step's and the transfer's part of a file name (empty for the defaults)."""
+    return ("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}") + ("" if args.flip == 0 else f"_flip{args.flip:g}")
+
+
 def run_one(speed: float, args: argparse.Namespace) -> dict:
     """One drag run (cached): time, travel and drag per metre at each record."""
     from intrusim.mpm.plate import PlateDragCase
     from intrusim.mpm.solver import Solver
 
     h = args.cell_mm * 1e-3
-    tag = f"d{args.depth_mm:g}mm_v{speed:g}_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm"
+    tag = (f"d{args.depth_mm:g}mm_v{speed:g}_travel{args.travel:g}m_band{args.band:g}_E{args.youngs_modulus:g}"
+           f"_h{args.cell_mm:g}mm{_cfl_tag(args)}")
     path = Path(args.out) / f"{tag}.json"
     if path.exists():
         return json.loads(path.read_text())
     domain = (0.45, 0.15)
     case = PlateDragCase(depth=args.depth_mm * 1e-3, speed=speed, travel=args.travel, domain=domain,
                          cells=(round(domain[0] / h), round(domain[1] / h)), contact_band_cells=args.band,
-                         youngs_modulus=args.youngs_modulus)  # fmt: skip
+                         youngs_modulus=args.youngs_modulus, cfl=args.cfl, flip=args.flip)  # fmt: skip
     rows = Solver(case.config(cpu_threads=args.threads)).run()
     t = np.array([r["time"] for r in rows])
     data = {"speed": speed, "time": t.tolist(), "travel": (speed * t).tolist(),
@@ -78,6 +84,8 @@ def main() -> None:
     ap.add_argument("--band", type=float, default=1.0, help="contact band, cells")
     ap.add_argument("--cell-mm", type=float, default=2.5)
     ap.add_argument("--youngs-modulus", type=float, default=1.0e6, help="Pa")
+    ap.add_argument("--cfl", type=float, default=0.3, help="C in dt = C h sqrt(rho / E) (default 0.3, as every run)")
+    ap.add_argument("--flip", type=float, default=0.0, help="FLIP's share of the velocity update, 0-1 (default 0: APIC)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default="runs/plate-travel")
     args = ap.parse_args()
@@ -87,13 +95,16 @@ def main() -> None:
         ap.error("--speeds: at least two different positive speeds")
     if len(edges) < 2 or np.any(np.diff(edges) <= 0) or edges[0] < 0 or edges[-1] > args.travel:
         ap.error("--windows: rising edges within [0, --travel]")
-    if not (0 < args.depth_mm and args.cell_mm > 0 and args.band >= 0 and args.youngs_modulus > 0 and args.threads >= 1):
-        ap.error("--depth-mm, --cell-mm and --youngs-modulus must be positive, --band >= 0, --threads >= 1")
+    if not (0 < args.depth_mm and args.cell_mm > 0 and args.band >= 0 and args.youngs_modulus > 0 and args.threads >= 1
+            and 0 < args.cfl <= 1 and 0 <= args.flip <= 1):
+        ap.error("--depth-mm, --cell-mm and --youngs-modulus must be positive, --band >= 0, --threads >= 1, "
+                 "0 < --cfl <= 1, 0 <= --flip <= 1")
 
     means = {v: window_means(np.array(d["travel"]), np.array(d["drag"]), edges)
              for v, d in ((v, run_one(v, args)) for v in speeds)}  # fmt: skip
     out = Path(args.out)
-    stem = f"plate_drag_travel_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm"
+    travel = "" if args.travel == 0.16 else f"_travel{args.travel:g}m"
+    stem = f"plate_drag_travel{travel}_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm{_cfl_tag(args)}"
     csv_path, png_path = out / f"{stem}.csv", out / f"{stem}.png"  # not with_suffix: "2.5mm" has a dot
     labels = [f"{a:g}-{b:g} m" for a, b in zip(edges[:-1], edges[1:])]
     with csv_path.open("w", newline="") as f:
@@ -121,7 +132,7 @@ def main() -> None:
     for v in speeds:
         ax.plot(mid * 1e3, means[v], "o-", label=f"v = {v:g} m/s")
     ax.set(xlabel="travel (mm, window centre)", ylabel="drag per metre (N/m)")
-    ax.set_title(f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa", fontsize=8)
+    ax.set_title(f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa, C {args.cfl:g}, FLIP {args.flip:g}", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(png_path, dpi=130)

@@ -1,5 +1,6 @@
 """examples/mpm_contact_band.py wheel: the set-up options a Froude twin scales (--start-x,
---youngs-modulus, --ramp-time, --chunk, --cfl) are validated before any simulation starts."""
+--youngs-modulus, --ramp-time, --chunk, --cfl) and the transfer's --flip are validated before any
+simulation starts."""
 
 import subprocess
 import sys
@@ -15,7 +16,8 @@ def _run(*options: str) -> subprocess.CompletedProcess:
 
 
 @pytest.mark.parametrize("option, value, field", [("--youngs-modulus", "-1", "youngs_modulus"), ("--cfl", "1.5", "cfl"),
-                                                  ("--chunk", "0", "chunk"), ("--ramp-time", "-0.1", "ramp_time")])  # fmt: skip
+                                                  ("--chunk", "0", "chunk"), ("--ramp-time", "-0.1", "ramp_time"),
+                                                  ("--flip", "1.5", "flip")])  # fmt: skip
 def test_a_bad_setting_is_refused_by_name(option, value, field, tmp_path):
     res = _run(option, value, "--out", str(tmp_path))
     assert res.returncode != 0

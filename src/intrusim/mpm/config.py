@@ -238,6 +238,18 @@ class TimeConfig(_Model):
     dt: float | None = Field(None, gt=0, description="override dt, s (must satisfy both limits)")
 
 
+class TransferConfig(_Model):
+    flip: float = Field(
+        0.0, ge=0.0, le=1.0,
+        description="share of FLIP in the points' new velocity: v_p <- flip (v_p + sum w (v_i - v_i_old)) + "
+        "(1 - flip) sum w v_i, with v_i_old the grid velocity P2G gave, before forces and contact. 0: APIC "
+        "(the default; the grid's velocity replaces the point's every step, which damps flow at the grid's "
+        "scale by an amount that grows as dt falls: docs/mpm.md); 1: FLIP, as the mpm-2d code of the paper's "
+        "group. The affine matrix C and the positions follow the grid velocity either way. FLIP runs the "
+        "one-point kernels (the vectorised G2P is APIC only)",
+    )
+
+
 class OutputConfig(_Model):
     directory: str | None = Field(None, description="run folder; None: no files")
     record_every: float = Field(0.01, gt=0, description="time-series interval, s")
@@ -302,6 +314,7 @@ class MPMConfig(_Model):
         1.0, ge=0, description="grid nodes within this distance (cells) of a body are in contact"
     )
     time: TimeConfig = Field(default_factory=TimeConfig)
+    transfer: TransferConfig = Field(default_factory=TransferConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
     backend: BackendConfig = Field(default_factory=BackendConfig)
 

@@ -19,7 +19,7 @@ class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
     def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1,
-                 fixed_density: float | None = None):
+                 fixed_density: float | None = None, flip: bool = False):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
@@ -46,6 +46,12 @@ class Grid:
                                           shape=self.chunks * self.shape[0] * self.shape[1])
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
+        # FLIP (TransferConfig.flip): the momentum before forces in copies as mp_parts', and the grid
+        # velocity it gives; one-element placeholders otherwise (the kernels take them, and skip them)
+        self.flip = bool(flip)
+        n_old = self.chunks * self.shape[0] * self.shape[1] if self.flip else 1
+        self.mo_parts = ti.Vector.ndarray(2, dtype, shape=n_old)  # kg/s per m
+        self.v_old = ti.Vector.ndarray(2, real, shape=self.shape if self.flip else (1, 1))  # m/s
         # node index box [i0, i1) x [j0, j1) each P2G chunk touched, and the box of the last update
         self.box_parts = ti.ndarray(ti.i32, shape=(self.chunks, 4))
         self.box = ti.ndarray(ti.i32, shape=4)  # zeros: an empty box
@@ -114,56 +120,81 @@ def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
     return v
 
 
-@ti.kernel
-def grid_update(
-    mp_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
-    box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
-    v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
-    kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float), inv_scale: float,
-):
-    """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
+def _make_grid_update(flip: bool):
+    @ti.kernel
+    def grid_update(
+        mp_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
+        box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
+        v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
+        kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float), inv_scale: float,
+        mo_parts: ti.types.ndarray(), v_old: ti.types.ndarray(),
+    ):
+        """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
 
-    ``inv_scale``: 1 for copies of real numbers, 1 / scale for one copy of fixed-point integers.
+        With ``flip`` also v_old_i = (m v)_old_i / m_i from the copies ``mo_parts``
+        (FLIP's grid velocity before forces, see ``TransferConfig.flip``), zeroed as they are read.
 
-    Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
-    are visited, and of the P2G copies only those whose chunk's box holds the node (``col_mask``:
-    a bit per chunk whose box spans the column, and the lowest and highest such chunk):
-    elsewhere m and the copies are already zero.
-    The copies are zeroed as they are read, ready for the next step; ``box`` becomes this step's box.
-    """
-    nc = box_parts.shape[0]
-    nx, ny = m.shape[0], m.shape[1]
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
-    b0, b1, b2, b3 = union_box(box_parts, nx, ny)  # this step's box
-    u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for i in range(u0, u1):
-        mask, c_lo, c_hi = 0, nc, -1
-        for c in range(nc):
-            if box_parts[c, 0] <= i < box_parts[c, 1]:
-                mask |= 1 << c
-                c_lo = ti.min(c_lo, c)
-                c_hi = c
-        col_mask[i, 0], col_mask[i, 1], col_mask[i, 2] = mask, c_lo, c_hi
-    nj = ti.max(u3 - u2, 0)
-    ti.loop_config(serialize=backend.SERIAL_LOOPS)
-    for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
-        i = u0 + q // nj
-        j = u2 + q % nj
-        mi = 0.0
-        pi = ti.Vector([0.0, 0.0])
-        mask = col_mask[i, 0]
-        for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
-            if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
-                k = record_index(c, i, j, nx, ny)
-                rec = mp_parts[k]  # float: the backend's real type (a no-op on real copies)
-                pi += ti.Vector([ti.cast(rec[0], float), ti.cast(rec[1], float)]) * inv_scale
-                mi += ti.cast(rec[2], float) * inv_scale
-                zero_record(mp_parts, k)
-        m[i, j] = mi
-        vi = ti.Vector([0.0, 0.0])
-        if mi > 0.0:
-            vi = wall_node_velocity(pi / mi + dt * ti.Vector([gx, gz]), (i - pad) * h, (j - pad) * h,
-                                    h, lx, kinds, mus)
-        v[i, j] = vi
-    box[0], box[1], box[2], box[3] = b0, b1, b2, b3
+        ``inv_scale``: 1 for copies of real numbers, 1 / scale for one copy of fixed-point integers.
+
+        Only the nodes P2G touched this step (the union of the chunks' boxes) or last step (``box``)
+        are visited, and of the P2G copies only those whose chunk's box holds the node (``col_mask``:
+        a bit per chunk whose box spans the column, and the lowest and highest such chunk):
+        elsewhere m and the copies are already zero.
+        The copies are zeroed as they are read, ready for the next step; ``box`` becomes this step's box.
+        """
+        nc = box_parts.shape[0]
+        nx, ny = m.shape[0], m.shape[1]
+        i0, i1, j0, j1 = box[0], box[1], box[2], box[3]  # last step's box: reset it
+        b0, b1, b2, b3 = union_box(box_parts, nx, ny)  # this step's box
+        u0, u1, u2, u3 = ti.min(i0, b0), ti.max(i1, b1), ti.min(j0, b2), ti.max(j1, b3)
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for i in range(u0, u1):
+            mask, c_lo, c_hi = 0, nc, -1
+            for c in range(nc):
+                if box_parts[c, 0] <= i < box_parts[c, 1]:
+                    mask |= 1 << c
+                    c_lo = ti.min(c_lo, c)
+                    c_hi = c
+            col_mask[i, 0], col_mask[i, 1], col_mask[i, 2] = mask, c_lo, c_hi
+        nj = ti.max(u3 - u2, 0)
+        ti.loop_config(serialize=backend.SERIAL_LOOPS)
+        for q in range(ti.max(u1 - u0, 0) * nj):  # range-for: struct-fors over ndarrays are slow on CPU
+            i = u0 + q // nj
+            j = u2 + q % nj
+            mi = 0.0
+            pi = ti.Vector([0.0, 0.0])
+            po = ti.Vector([0.0, 0.0])  # FLIP: the momentum before forces
+            mask = col_mask[i, 0]
+            for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
+                if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
+                    k = record_index(c, i, j, nx, ny)
+                    rec = mp_parts[k]  # float: the backend's real type (a no-op on real copies)
+                    pi += ti.Vector([ti.cast(rec[0], float), ti.cast(rec[1], float)]) * inv_scale
+                    mi += ti.cast(rec[2], float) * inv_scale
+                    zero_record(mp_parts, k)
+                    if ti.static(flip):
+                        po += ti.Vector([ti.cast(mo_parts[k][0], float), ti.cast(mo_parts[k][1], float)]) * inv_scale
+                        zero_record(mo_parts, k)
+            m[i, j] = mi
+            vi = ti.Vector([0.0, 0.0])
+            if mi > 0.0:
+                vi = wall_node_velocity(pi / mi + dt * ti.Vector([gx, gz]), (i - pad) * h, (j - pad) * h,
+                                        h, lx, kinds, mus)
+            v[i, j] = vi
+            if ti.static(flip):
+                vo = ti.Vector([0.0, 0.0])
+                if mi > 0.0:
+                    vo = po / mi
+                v_old[i, j] = vo
+        box[0], box[1], box[2], box[3] = b0, b1, b2, b3
+
+    return grid_update
+
+
+_GRID_UPDATES = {flip: _make_grid_update(flip) for flip in (False, True)}
+
+
+def grid_update_kernel(flip: bool = False):
+    """The grid update kernel (``grid_update``), with or without FLIP's old grid velocity: a factory
+    rather than a template flag, so that the kernel can be recorded in a ``ti.graph`` (see step_graph)."""
+    return _GRID_UPDATES[bool(flip)]

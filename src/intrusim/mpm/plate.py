@@ -15,7 +15,7 @@ from intrusim.analysis.plates import fit_drag_law  # noqa: F401  (re-exported: t
 
 from .config import (
     BedConfig, BoundaryConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
-    OutputConfig, PrescribedMotion, Rectangle, TimeConfig, WallConfig,
+    OutputConfig, PrescribedMotion, Rectangle, TimeConfig, TransferConfig, WallConfig,
 )
 
 
@@ -44,6 +44,8 @@ class PlateDragCase:
     youngs_modulus: float = 1.0e6  # Pa
     ramp_fraction: float = 0.25  # ramp time = ramp_fraction * plate_length / speed
     contact_band_cells: float = 1.0  # nodes this close outside the plate are in contact (docs/mpm.md)
+    cfl: float = 0.3  # C in dt = C h sqrt(rho / E) (TimeConfig.cfl)
+    flip: float = 0.0  # FLIP's share of the velocity update (TransferConfig.flip; 0: APIC)
 
     def config(self, directory: str | None = None, **backend) -> MPMConfig:
         t_end = self.travel / self.speed
@@ -60,7 +62,8 @@ class PlateDragCase:
                                         ramp_time=self.ramp_fraction * self.plate_length / self.speed),
             )],
             contact_band_cells=self.contact_band_cells,
-            time=TimeConfig(t_end=t_end, v_max_expected=max(self.speed, 0.5)),
+            time=TimeConfig(t_end=t_end, cfl=self.cfl, v_max_expected=max(self.speed, 0.5)),
+            transfer=TransferConfig(flip=self.flip),
             output=OutputConfig(directory=directory, record_every=t_end / 100),
             backend=backend or {},
         )

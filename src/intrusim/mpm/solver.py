@@ -22,11 +22,11 @@ from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
-from .grid import Grid, grid_update
+from .grid import Grid, grid_update_kernel
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
-from .transfer import g2p_kernel, p2g_args, p2g_kernel
+from .transfer import g2p_kernel, p2g_args, p2g_flip_kernel, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
 
@@ -67,7 +67,9 @@ class Solver:
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
-        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None)
+        self.flip = cfg.transfer.flip
+        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
+                         flip=self.flip > 0)
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
@@ -92,8 +94,10 @@ class Solver:
         self.dt = cfg.time.dt or dt_max
         # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
         # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
-        self._lanes = backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes)
+        # and APIC only (FLIP runs the one-point kernels)
+        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
+                       and self.flip == 0)
+        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, and its graph once compiled
@@ -120,10 +124,12 @@ class Solver:
         lanes = self._lanes and g.chunks > 1  # the vectorised scatters (P2G, fluidity sources) are the chunked ones
         launches = [
             # 1. P2G (copies left zeroed by 2.)
-            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes), p2g_args(p, g, dt), unscalarized=lanes),
-            Launch(grid_update, (  # 2. momentum + gravity, walls
+            Launch(p2g_flip_kernel(g.chunks > 1, g.fixed_scale is not None) if g.flip
+                   else p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes),
+                   p2g_args(p, g, dt, g.flip), unscalarized=lanes),
+            Launch(grid_update_kernel(g.flip), (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
-                g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale,
+                g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale, g.mo_parts, g.v_old,
             )),
         ]
         for k, (o, a) in enumerate(zip(self.obstacles, active)):
@@ -134,6 +140,7 @@ class Solver:
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
+            *((g.v_old, self.flip) if g.flip else ()),
         ), unscalarized=self._lanes))
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material

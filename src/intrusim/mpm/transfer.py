@@ -30,8 +30,12 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
 @ti.func
 def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
                   mass: ti.template(), vol: ti.template(), sigma: ti.template(),
-                  gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale):
+                  gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale,
+                  gmo: ti.template(), flip: ti.template()):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
+
+    With ``flip`` also (m v_old)_i += w m_p [v_p + C_p (x_i - x_p)] into ``gmo`` (the momentum before
+    the stress impulse, for FLIP's old grid velocity; ``TransferConfig.flip``).
 
     ``gmp`` is the array of the grid copies' records (``grid.record_index``, ``grid.record_width``);
     the stencil's first record is addressed once per point and the other 8 at fixed offsets from it
@@ -58,6 +62,10 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
             scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
     else:
         scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
+    if ti.static(flip):  # the same with the momentum alone: affine = m_p C_p
+        mc = mp * get_mat2(C, p)
+        scatter_momentum(gmo, first, w, mp * get_vec2(v, p) - h * (mc @ fx), h * ti.Vector([mc[0, 0], mc[1, 0]]),
+                         h * ti.Vector([mc[0, 1], mc[1, 1]]), ny, mode, scale)
     return base
 
 
@@ -70,6 +78,29 @@ def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.t
             weight = w[a][0] * w[b][1]
             q = qa + b * cb
             scatter_add(gmp, first + a * ny + b, make_record(gmp, weight * q[0], weight * q[1], weight * mp), mode, scale)
+
+
+@ti.func
+def scatter_momentum(gmo: ti.template(), first, w, q0, ca, cb, ny, mode: ti.template(), scale):
+    """(m v)_old += w_ab (q0 + a ca + b cb) into the 3 x 3 momentum records from ``first`` (FLIP)."""
+    for a in ti.static(range(3)):
+        for b in ti.static(range(3)):
+            scatter_add(gmo, first + a * ny + b, (w[a][0] * w[b][1]) * (q0 + a * ca + b * cb), mode, scale)
+
+
+@ti.func
+def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(),
+                         mass: ti.template(), vol: ti.template(), sigma: ti.template(), gmp: ti.template(),
+                         nx, ny, h, pad, dt, scale, gmo: ti.template(), flip: ti.template()):
+    """The points of blocks [first, end) (below n) into grid copy c one at a time (:func:`scatter_point`);
+    returns the node box (i0, i1, j0, j1)."""
+    lo = ti.Vector([nx, ny])
+    hi = ti.Vector([0, 0])
+    for p in range(first * LANES, ti.min(end * LANES, n)):
+        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale, gmo, flip)
+        lo = ti.min(lo, base)
+        hi = ti.max(hi, base + 3)
+    return lo[0], hi[0], lo[1], hi[1]
 
 
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
@@ -122,25 +153,57 @@ def _make_p2g_kernel(mode: int, lanes: bool):
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_lanes(
                             c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
                     else:
-                        lo = ti.Vector([nx, ny])
-                        hi = ti.Vector([0, 0])
-                        for p in range(first * LANES, ti.min(end * LANES, n)):
-                            base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale)
-                            lo = ti.min(lo, base)
-                            hi = ti.max(hi, base + 3)
-                        box[c, 0], box[c, 1], box[c, 2], box[c, 3] = lo[0], hi[0], lo[1], hi[1]
+                        box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmp, False)
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(n):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale)
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmp, False)
 
     return p2g_scatter
 
 
+def _make_p2g_flip_kernel(mode: int):
+    chunked = mode == PLAIN
+
+    @ti.kernel
+    def p2g_scatter_flip(
+        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int,
+        gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
+        scale: float, gmo: ti.types.ndarray(),
+    ):
+        """The one-point P2G of ``p2g_scatter``, also adding the momentum before forces into the copies
+        ``gmo`` (records (m v_x, m v_z) at the indices of ``gmp``'s), for FLIP's old grid velocity."""
+        if ti.static(chunked):
+            nc = box.shape[0]
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside (see p2g_scatter)
+                if q % CHUNK_SPREAD == 0:
+                    c = q // CHUNK_SPREAD
+                    first, end = chunk_blocks(c, nc, x.shape[0])
+                    box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
+                        c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, True)
+        else:
+            box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for p in range(n):
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, True)
+
+    return p2g_scatter_flip
+
+
 _P2G_KERNELS = {(mode, False): _make_p2g_kernel(mode, False) for mode in (PLAIN, ATOMIC, FIXED)}
 _P2G_KERNELS[(PLAIN, True)] = _make_p2g_kernel(PLAIN, True)
+_P2G_FLIP_KERNELS = {mode: _make_p2g_flip_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
+
+
+def p2g_flip_kernel(chunked: bool, fixed: bool = False):
+    """:func:`p2g_kernel`'s one-point form that also gives FLIP's old grid momentum (its last argument,
+    ``Grid.mo_parts``)."""
+    return _P2G_FLIP_KERNELS[sum_mode(chunked, fixed)]
 
 
 @ti.func
@@ -198,11 +261,12 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
     return i0, i1, j0, j1
 
 
-def p2g_args(particles, grid, dt: float) -> tuple:
-    """Arguments of :func:`p2g_kernel` for these particles and grid."""
+def p2g_args(particles, grid, dt: float, flip: bool = False) -> tuple:
+    """Arguments of :func:`p2g_kernel` (with ``flip``: :func:`p2g_flip_kernel`) for these particles and grid."""
     p = particles
-    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.n, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
+    args = (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.n, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
             grid.fixed_scale or 1.0)
+    return (*args, grid.mo_parts) if flip else args
 
 
 @ti.func
@@ -234,6 +298,17 @@ def g2p_point(x, gv: ti.template(), h, pad):
     new_C = k * ti.Matrix([[sa[0] - s0[0] * fx[0], sb[0] - s0[0] * fx[1]],
                            [sa[1] - s0[1] * fx[0], sb[1] - s0[1] * fx[1]]])
     return s0, new_C
+
+
+@ti.func
+def interpolate_point(x, g: ti.template(), h, pad):
+    """sum w_i g_i over the 3 x 3 stencil of the point at x (a grid field of 2-vectors)."""
+    base, fx, w = quadratic_weights(x, 1.0 / h, pad, g.shape[0], g.shape[1])
+    s = ti.Vector([0.0, 0.0])
+    for a in ti.static(range(3)):
+        for b in ti.static(range(3)):
+            s += (w[a][0] * w[b][1]) * g[base[0] + a, base[1] + b]
+    return s
 
 
 @ti.func
@@ -346,7 +421,7 @@ def exp_near_zero_lanes(x):
 _G2P_KERNELS: dict = {}
 
 
-def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
+def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool = False):
     """G2P + density + stress kernel for a material ``ti.func`` taking ``n_params`` parameters
     (one compiled kernel per law, parameter count and form).
 
@@ -368,11 +443,53 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
     ``step_graph.Launch.unscalarized``), otherwise Taichi splits the vectors back into scalars.
     Both forms update every slot of the blocks, the last block's pads too (copies of the last point,
     they stay copies).
+
+    ``flip`` (one-point only): the kernel takes two more arguments, the grid velocity before forces
+    (``Grid.v_old``) and FLIP's share of the new velocity (``TransferConfig.flip``).
     """
-    key = (stress_update, n_params, lanes)
+    key = (stress_update, n_params, lanes, flip)
     if key in _G2P_KERNELS:
         return _G2P_KERNELS[key]
+    if flip and lanes:
+        raise ValueError("the vectorised G2P is APIC only: FLIP runs the one-point kernel")
     law = stress_update.components
+
+    @ti.func
+    def point_after_g2p(p, xp, v_point, v_grid, L, x: ti.template(), v: ti.template(), C: ti.template(),
+                        mass: ti.template(), vol: ti.template(), sigma: ti.template(), s_yy: ti.template(),
+                        eps_p: ti.template(), gdot_p: ti.template(), dt, prm, inv_rho_floor):
+        """Point p's new velocity v_point, C_p = L, position moved with the grid's v_grid, density and stress."""
+        set_vec2(v, p, v_point)
+        set_mat2(C, p, L)
+        set_vec2(x, p, xp + dt * v_grid)
+        m = get_scalar(mass, p)
+        vp = ti.min(get_scalar(vol, p) * exp_near_zero(dt * L.trace()), m * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
+        set_scalar(vol, p, vp)
+        sig, syy, dgamma = stress_update(get_sym2(sigma, p), get_scalar(s_yy, p), L, m / vp, dt, prm)
+        set_sym2(sigma, p, sig)
+        set_scalar(s_yy, p, syy)
+        add_plastic_strain(eps_p, gdot_p, p, dgamma, dt)
+
+    if flip:
+        @ti.kernel
+        def g2p_density_stress_flip(
+            x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
+            mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
+            s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
+            gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
+            gv_old: ti.types.ndarray(), share: float,
+        ):
+            """The one-point G2P with FLIP: v_p <- share (v_p + sum w (v_i - v_old_i)) + (1 - share) sum w v_i."""
+            ti.loop_config(serialize=backend.SERIAL_LOOPS)
+            for p in range(x.shape[0] * LANES):
+                xp = get_vec2(x, p)
+                new_v, L = g2p_point(xp, gv, h, pad)
+                v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad)
+                point_after_g2p(p, xp, share * v_flip + (1.0 - share) * new_v, new_v, L, x, v, C, mass, vol, sigma,
+                                s_yy, eps_p, gdot_p, dt, prm, inv_rho_floor)
+
+        _G2P_KERNELS[key] = g2p_density_stress_flip
+        return g2p_density_stress_flip
 
     @ti.kernel
     def g2p_density_stress(
@@ -386,16 +503,8 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False):
             for p in range(x.shape[0] * LANES):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
                 xp = get_vec2(x, p)
                 new_v, L = g2p_point(xp, gv, h, pad)
-                set_vec2(v, p, new_v)
-                set_mat2(C, p, L)
-                set_vec2(x, p, xp + dt * new_v)
-                m = get_scalar(mass, p)
-                vp = ti.min(get_scalar(vol, p) * exp_near_zero(dt * L.trace()), m * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
-                set_scalar(vol, p, vp)
-                sig, syy, dgamma = stress_update(get_sym2(sigma, p), get_scalar(s_yy, p), L, m / vp, dt, prm)
-                set_sym2(sigma, p, sig)
-                set_scalar(s_yy, p, syy)
-                add_plastic_strain(eps_p, gdot_p, p, dgamma, dt)
+                point_after_g2p(p, xp, new_v, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm,
+                                inv_rho_floor)
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range(x.shape[0]):

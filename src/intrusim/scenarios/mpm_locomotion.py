@@ -68,6 +68,8 @@ class MPMSettings(Config):
         short box; the time series' x stays in the bed's frame. None: the body runs to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
     cfl : C of dt = C h sqrt(rho_c / E).
+    flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; 0: APIC, as the
+        paper-set-up runs; 1: FLIP, the method of the paper's group's mpm-2d code).
     contact_band_cells : grid nodes closer than this many cells outside the body are in contact
         (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
     arch, precision, cpu_threads : Taichi backend.
@@ -97,6 +99,7 @@ class MPMSettings(Config):
     treadmill: tuple[float, float] | None = None
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
+    flip: float = Field(0.0, ge=0.0, le=1.0)
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
@@ -200,7 +203,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
     """The :class:`~intrusim.mpm.config.MPMConfig` of ``scenario`` spinning forward at ``omega_rpm``."""
     from intrusim.mpm.config import (
         BackendConfig, BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
-        OutputConfig, Rectangle, TimeConfig,
+        OutputConfig, Rectangle, TimeConfig, TransferConfig,
     )  # fmt: skip
 
     w = finite("omega_rpm", omega_rpm)
@@ -230,6 +233,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
         gravity=(0.0, -scenario.gravity),
         contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
+        transfer=TransferConfig(flip=s.flip),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5),
         backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),
     )  # fmt: skip
