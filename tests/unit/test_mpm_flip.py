@@ -4,8 +4,10 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from intrusim.mpm.config import BackendConfig, BedConfig, DomainConfig, MPMConfig, Rectangle, TransferConfig
+from intrusim.mpm.config import BackendConfig, BedConfig, DomainConfig, MaterialConfig, MPMConfig, Rectangle, TransferConfig
+from intrusim.mpm.constitutive import material_from_config
 from intrusim.mpm.solver import Solver
+from intrusim.mpm.transfer import g2p_kernel, p2g_kernel
 
 
 def _loose_patch(flip: float, gravity: float = 0.0, chunks: int = 16) -> Solver:
@@ -61,3 +63,11 @@ def test_flip_runs_the_one_point_kernels_and_the_fixed_point_sums_agree():
 def test_a_flip_share_outside_0_1_is_refused(flip):
     with pytest.raises(ValidationError, match="flip"):
         TransferConfig(flip=flip)
+
+
+def test_the_vectorised_kernels_refuse_flip():
+    with pytest.raises(ValueError, match="APIC only"):
+        p2g_kernel(True, lanes=True, flip=True)
+    material = material_from_config(MaterialConfig())
+    with pytest.raises(ValueError, match="APIC only"):
+        g2p_kernel(material.taichi_update, len(material.params), lanes=True, flip=True)

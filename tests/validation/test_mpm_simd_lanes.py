@@ -125,7 +125,9 @@ def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]
     pts, _ = _arrays(state)
     copies = ti.Vector.ndarray(record_width(True), ti.f32, shape=chunks * NX * NZ)  # the solver's chunked copies
     box = ti.ndarray(ti.i32, shape=(chunks, 4))
-    args = [pts.arrays[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [pts.n, copies, box, NX, NZ, H, PAD, DT, 1.0]
+    no_flip = ti.Vector.ndarray(2, ti.f32, shape=1)  # FLIP's momentum copies: a placeholder (not touched)
+    args = [pts.arrays[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [pts.n, copies, box, NX, NZ, H, PAD, DT, 1.0,
+                                                                              no_flip]
     if lanes:
         with unscalarized():
             p2g_kernel(chunked=True, lanes=True)(*args)

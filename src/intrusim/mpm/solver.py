@@ -26,7 +26,7 @@ from .grid import Grid, grid_update_kernel
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
-from .transfer import g2p_kernel, p2g_args, p2g_flip_kernel, p2g_kernel
+from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
 
@@ -124,9 +124,8 @@ class Solver:
         lanes = self._lanes and g.chunks > 1  # the vectorised scatters (P2G, fluidity sources) are the chunked ones
         launches = [
             # 1. P2G (copies left zeroed by 2.)
-            Launch(p2g_flip_kernel(g.chunks > 1, g.fixed_scale is not None) if g.flip
-                   else p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes),
-                   p2g_args(p, g, dt, g.flip), unscalarized=lanes),
+            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes, g.flip), p2g_args(p, g, dt),
+                   unscalarized=lanes),
             Launch(grid_update_kernel(g.flip), (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
                 g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale, g.mo_parts, g.v_old,

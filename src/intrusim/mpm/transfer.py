@@ -106,10 +106,12 @@ def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
-def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False):
+def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bool = False):
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
     one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
     (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
+    ``flip`` (one-point only): it also sums the momentum before forces into its last argument
+    (``Grid.mo_parts``, FLIP's old grid velocity); without it that argument is not touched.
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
     ``ti.graph`` (see step_graph), which takes no template parameters.
@@ -117,10 +119,12 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False):
     mode = sum_mode(chunked, fixed)
     if lanes and mode != PLAIN:
         raise ValueError("the vectorised P2G is the chunked one (private copies, no atomics)")
-    return _P2G_KERNELS[(mode, lanes)]
+    if lanes and flip:
+        raise ValueError("the vectorised P2G is APIC only: FLIP runs the one-point kernel")
+    return _P2G_KERNELS[(mode, lanes, flip)]
 
 
-def _make_p2g_kernel(mode: int, lanes: bool):
+def _make_p2g_kernel(mode: int, lanes: bool, flip: bool):
     chunked = mode == PLAIN
 
     @ti.kernel
@@ -128,7 +132,7 @@ def _make_p2g_kernel(mode: int, lanes: bool):
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int,
         gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
-        scale: float,
+        scale: float, gmo: ti.types.ndarray(),
     ):
         """P2G of the n points (block arrays, see particles) into the grid copies ``gmp`` (records, see
         scatter_point; a grid of nx x ny nodes); ``box[c]`` = node box [i0, i1, j0, j1)
@@ -154,56 +158,20 @@ def _make_p2g_kernel(mode: int, lanes: bool):
                             c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
                     else:
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmp, False)
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip)
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(n):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmp, False)
+                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, flip)
 
     return p2g_scatter
 
 
-def _make_p2g_flip_kernel(mode: int):
-    chunked = mode == PLAIN
-
-    @ti.kernel
-    def p2g_scatter_flip(
-        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int,
-        gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
-        scale: float, gmo: ti.types.ndarray(),
-    ):
-        """The one-point P2G of ``p2g_scatter``, also adding the momentum before forces into the copies
-        ``gmo`` (records (m v_x, m v_z) at the indices of ``gmp``'s), for FLIP's old grid velocity."""
-        if ti.static(chunked):
-            nc = box.shape[0]
-            ti.loop_config(serialize=backend.SERIAL_LOOPS)
-            for q in range(nc * CHUNK_SPREAD):  # parallel over chunks, serial inside (see p2g_scatter)
-                if q % CHUNK_SPREAD == 0:
-                    c = q // CHUNK_SPREAD
-                    first, end = chunk_blocks(c, nc, x.shape[0])
-                    box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
-                        c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, True)
-        else:
-            box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
-            ti.loop_config(serialize=backend.SERIAL_LOOPS)
-            for p in range(n):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, True)
-
-    return p2g_scatter_flip
-
-
-_P2G_KERNELS = {(mode, False): _make_p2g_kernel(mode, False) for mode in (PLAIN, ATOMIC, FIXED)}
-_P2G_KERNELS[(PLAIN, True)] = _make_p2g_kernel(PLAIN, True)
-_P2G_FLIP_KERNELS = {mode: _make_p2g_flip_kernel(mode) for mode in (PLAIN, ATOMIC, FIXED)}
-
-
-def p2g_flip_kernel(chunked: bool, fixed: bool = False):
-    """:func:`p2g_kernel`'s one-point form that also gives FLIP's old grid momentum (its last argument,
-    ``Grid.mo_parts``)."""
-    return _P2G_FLIP_KERNELS[sum_mode(chunked, fixed)]
+_P2G_KERNELS = {(mode, False, flip): _make_p2g_kernel(mode, False, flip) for mode in (PLAIN, ATOMIC, FIXED)
+                for flip in (False, True)}  # fmt: skip
+_P2G_KERNELS[(PLAIN, True, False)] = _make_p2g_kernel(PLAIN, True, False)
 
 
 @ti.func
@@ -261,12 +229,11 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
     return i0, i1, j0, j1
 
 
-def p2g_args(particles, grid, dt: float, flip: bool = False) -> tuple:
-    """Arguments of :func:`p2g_kernel` (with ``flip``: :func:`p2g_flip_kernel`) for these particles and grid."""
+def p2g_args(particles, grid, dt: float) -> tuple:
+    """Arguments of :func:`p2g_kernel` for these particles and grid."""
     p = particles
-    args = (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.n, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
-            grid.fixed_scale or 1.0)
-    return (*args, grid.mo_parts) if flip else args
+    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.n, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
+            grid.fixed_scale or 1.0, grid.mo_parts)
 
 
 @ti.func
