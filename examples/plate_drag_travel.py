@@ -103,7 +103,7 @@ def main() -> None:
     means = {v: window_means(np.array(d["travel"]), np.array(d["drag"]), edges)
              for v, d in ((v, run_one(v, args)) for v in speeds)}  # fmt: skip
     out = Path(args.out)
-    travel = "" if args.travel == 0.16 else f"_travel{args.travel:g}m"
+    travel = "" if args.travel == 0.16 else f"{args.travel:g}m"  # the default travel is left out of the name
     stem = f"plate_drag_travel{travel}_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm{_cfl_tag(args)}"
     csv_path, png_path = out / f"{stem}.csv", out / f"{stem}.png"  # not with_suffix: "2.5mm" has a dot
     labels = [f"{a:g}-{b:g} m" for a, b in zip(edges[:-1], edges[1:])]

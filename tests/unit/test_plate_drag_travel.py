@@ -47,7 +47,7 @@ def test_a_coarse_run_writes_the_table_and_the_figure(tmp_path):
     res = subprocess.run([sys.executable, str(SCRIPT), "--speeds", "0.16", "0.64", "--travel", "0.04", "--windows", "0.02", "0.04",
                           "--cell-mm", "7.5", "--threads", "2", "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)  # fmt: skip
     assert res.returncode == 0, res.stderr
-    stem = tmp_path / "plate_drag_travel_band1_E1e+06_h7.5mm"  # a cell size with a dot: the name keeps it
+    stem = tmp_path / "plate_drag_travel0.04m_band1_E1e+06_h7.5mm"  # a cell size with a dot: the name keeps it
     rows = Path(f"{stem}.csv").read_text().splitlines()
     assert rows[0] == "speed_m_s,quantity,0.02-0.04 m" and len(rows) == 4
     drag = [float(r.split(",")[2]) for r in rows[1:3]]
