@@ -64,7 +64,8 @@ def _arrays(state: dict) -> tuple[Particles, ti.Ndarray]:
 
 def _g2p(material, state: dict, lanes: bool) -> dict:
     pts, gv = _arrays(state)
-    args = [pts.arrays[k] for k in FIELDS] + [gv, H, PAD, DT, material.params, 1.0 / 300.0]
+    no_flip = ti.Vector.ndarray(2, ti.f32, shape=(1, 1))  # FLIP's old grid velocity: a placeholder (not touched)
+    args = [pts.arrays[k] for k in FIELDS] + [gv, H, PAD, DT, material.params, 1.0 / 300.0, no_flip, 0.0]
     if lanes:
         with unscalarized():
             g2p_kernel(material.taichi_update, len(material.params), lanes=True)(*args)

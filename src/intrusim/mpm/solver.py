@@ -139,7 +139,7 @@ class Solver:
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
-            *((g.v_old, self.flip) if g.flip else ()),
+            g.v_old, self.flip,
         ), unscalarized=self._lanes))
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material

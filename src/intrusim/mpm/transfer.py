@@ -411,8 +411,9 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
     Both forms update every slot of the blocks, the last block's pads too (copies of the last point,
     they stay copies).
 
-    ``flip`` (one-point only): the kernel takes two more arguments, the grid velocity before forces
-    (``Grid.v_old``) and FLIP's share of the new velocity (``TransferConfig.flip``).
+    ``flip`` (one-point only): the last two arguments, the grid velocity before forces (``Grid.v_old``)
+    and FLIP's share of the new velocity (``TransferConfig.flip``), are used; without it they are not
+    touched (placeholders).
     """
     key = (stress_update, n_params, lanes, flip)
     if key in _G2P_KERNELS:
@@ -437,40 +438,24 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
         set_scalar(s_yy, p, syy)
         add_plastic_strain(eps_p, gdot_p, p, dgamma, dt)
 
-    if flip:
-        @ti.kernel
-        def g2p_density_stress_flip(
-            x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-            mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-            s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-            gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
-            gv_old: ti.types.ndarray(), share: float,
-        ):
-            """The one-point G2P with FLIP: v_p <- share (v_p + sum w (v_i - v_old_i)) + (1 - share) sum w v_i."""
-            ti.loop_config(serialize=backend.SERIAL_LOOPS)
-            for p in range(x.shape[0] * LANES):
-                xp = get_vec2(x, p)
-                new_v, L = g2p_point(xp, gv, h, pad)
-                v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad)
-                point_after_g2p(p, xp, share * v_flip + (1.0 - share) * new_v, new_v, L, x, v, C, mass, vol, sigma,
-                                s_yy, eps_p, gdot_p, dt, prm, inv_rho_floor)
-
-        _G2P_KERNELS[key] = g2p_density_stress_flip
-        return g2p_density_stress_flip
-
     @ti.kernel
     def g2p_density_stress(
         x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
         mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
         s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
         gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
+        gv_old: ti.types.ndarray(), share: float,
     ):
         if ti.static(not lanes):
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(x.shape[0] * LANES):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
                 xp = get_vec2(x, p)
                 new_v, L = g2p_point(xp, gv, h, pad)
-                point_after_g2p(p, xp, new_v, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm,
+                v_point = new_v
+                if ti.static(flip):  # v_p <- share (v_p + sum w (v_i - v_old_i)) + (1 - share) sum w v_i
+                    v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad)
+                    v_point = share * v_flip + (1.0 - share) * new_v
+                point_after_g2p(p, xp, v_point, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm,
                                 inv_rho_floor)
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
