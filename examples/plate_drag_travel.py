@@ -11,6 +11,8 @@ window by window (docs/results.md, "Fig 6A: plate drag"). Each run is cached as 
 
     python examples/plate_drag_travel.py --band 1                      # ~3 min on 2 cores
     python examples/plate_drag_travel.py --band 0 --youngs-modulus 4e6 # ~6 min
+    python examples/plate_drag_travel.py --band 0 --speeds 0.04 0.16 0.64 --travel 0.08 \
+        --windows 0.02 0.04 0.08 --cfl 0.15 --flip 1   # the time step and the transfer (docs/mpm.md)
 """
 
 from __future__ import annotations
@@ -46,19 +48,20 @@ def excess_lambda(f_fast: np.ndarray, f_slow: np.ndarray, v_fast: float, v_slow:
     return (np.asarray(f_fast, float) - np.asarray(f_slow, float)) / (rho * area * (v_fast**2 - v_slow**2))
 
 
-def _cfl_tag(args: argparse.Namespace) -> str:
+def _step_tag(args: argparse.Namespace) -> str:
     """The time step's and the transfer's part of a file name (empty for the defaults)."""
     return ("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}") + ("" if args.flip == 0 else f"_flip{args.flip:g}")
 
 
 def run_one(speed: float, args: argparse.Namespace) -> dict:
     """One drag run (cached): time, travel and drag per metre at each record."""
+    from intrusim.mpm.io import atomic_write_bytes
     from intrusim.mpm.plate import PlateDragCase
     from intrusim.mpm.solver import Solver
 
     h = args.cell_mm * 1e-3
     tag = (f"d{args.depth_mm:g}mm_v{speed:g}_travel{args.travel:g}m_band{args.band:g}_E{args.youngs_modulus:g}"
-           f"_h{args.cell_mm:g}mm{_cfl_tag(args)}")
+           f"_h{args.cell_mm:g}mm{_step_tag(args)}")
     path = Path(args.out) / f"{tag}.json"
     if path.exists():
         return json.loads(path.read_text())
@@ -71,7 +74,7 @@ def run_one(speed: float, args: argparse.Namespace) -> dict:
     data = {"speed": speed, "time": t.tolist(), "travel": (speed * t).tolist(),
             "drag": (-np.array([r["fx"] for r in rows])).tolist()}  # fmt: skip
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data))
+    atomic_write_bytes(path, json.dumps(data).encode())  # a killed run leaves no half-written cache
     return data
 
 
@@ -104,7 +107,7 @@ def main() -> None:
              for v, d in ((v, run_one(v, args)) for v in speeds)}  # fmt: skip
     out = Path(args.out)
     travel = "" if args.travel == 0.16 else f"{args.travel:g}m"  # the default travel is left out of the name
-    stem = f"plate_drag_travel{travel}_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm{_cfl_tag(args)}"
+    stem = f"plate_drag_travel{travel}_band{args.band:g}_E{args.youngs_modulus:g}_h{args.cell_mm:g}mm{_step_tag(args)}"
     csv_path, png_path = out / f"{stem}.csv", out / f"{stem}.png"  # not with_suffix: "2.5mm" has a dot
     labels = [f"{a:g}-{b:g} m" for a, b in zip(edges[:-1], edges[1:])]
     with csv_path.open("w", newline="") as f:
