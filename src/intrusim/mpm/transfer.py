@@ -54,18 +54,21 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
     cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
     first = record_index(c, base[0], base[1], nx, ny)
+    scattered = True
     if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
         if (ti.math.isnan(q0).any() or ti.math.isinf(q0).any()
                 or ti.math.isnan(affine).any() or ti.math.isinf(affine).any()):
             set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
+            scattered = False
         else:
             scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
     else:
         scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
-    if ti.static(flip):  # the same with the momentum alone: affine = m_p C_p
-        mc = mp * get_mat2(C, p)
-        scatter_momentum(gmo, first, w, mp * get_vec2(v, p) - h * (mc @ fx), h * ti.Vector([mc[0, 0], mc[1, 0]]),
-                         h * ti.Vector([mc[0, 1], mc[1, 1]]), ny, mode, scale)
+    if ti.static(flip):  # the same with the momentum alone: affine = m_p C_p (not for a point marked above)
+        if scattered:
+            mc = mp * get_mat2(C, p)
+            scatter_momentum(gmo, first, w, mp * get_vec2(v, p) - h * (mc @ fx), h * ti.Vector([mc[0, 0], mc[1, 0]]),
+                             h * ti.Vector([mc[0, 1], mc[1, 1]]), ny, mode, scale)
     return base
 
 
