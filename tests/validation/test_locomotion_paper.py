@@ -103,7 +103,7 @@ def test_at_10_rpm_the_papers_drft_is_quasistatic_rft(name):
     """
     sc = get_scenario(name)
     assert sc.force_model.structural == "wheel-rear-half" and sc.force_model.psi_slope == 1.0
-    dh = sc.radius * (sc.radius * (10.0 * RPM) ** 2 / 9.8)
+    dh = sc.radius * (sc.radius * (10.0 * RPM) ** 2 / sc.gravity)
     assert dh < 1.4e-3
     rft = sweep_omega(sc, "rft", [10.0], parallel=False, progress=False)
     for structural in ("wheel-rear-half", "wheel-rear-half-effective"):
