@@ -86,7 +86,8 @@ def run(args: argparse.Namespace) -> None:
             raise SystemExit(f"bad --fluidity-diameter: {e}") from None
         settings = settings.model_copy(update=dict(fluidity=fluidity))
     scaled = {k: v for k, v in dict(start_x=args.start_x, youngs_modulus=args.youngs_modulus, ramp_time=args.ramp_time,
-                                     chunk=args.chunk, cfl=args.cfl, flip=args.flip).items() if v is not None}  # fmt: skip
+                                     chunk=args.chunk, cfl=args.cfl, flip=args.flip,
+                                     shape=args.shape).items() if v is not None}  # fmt: skip
     if scaled:  # the set-up a Froude twin scales too: start, stiffness, spin-up, run-control interval (and C)
         try:
             settings = settings.validated_copy(**scaled)
@@ -110,6 +111,7 @@ def run(args: argparse.Namespace) -> None:
     tag += "" if args.chunk is None else f"_chunk{args.chunk:g}s"
     tag += "" if args.cfl is None else f"_cfl{args.cfl:g}"
     tag += "" if args.flip is None else f"_flip{args.flip:g}"
+    tag += "" if args.shape is None else f"_{args.shape}"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
     st = run_mpm_steady(scenario, settings, args.rpm, out,
                         lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
@@ -271,6 +273,9 @@ r.add_argument("--chunk", type=float, default=None, metavar="S",
 r.add_argument("--cfl", type=float, default=None, metavar="C", help="C of dt = C h sqrt(rho_c / E) (default 0.3)")
 r.add_argument("--flip", type=float, default=None, metavar="S",
                help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC; docs/mpm.md)")
+r.add_argument("--shape", choices=["quadratic", "linear"], default=None,
+               help="shape functions of the transfers (default quadratic; linear: the cell's bilinear functions, "
+                    "as the paper's group's mpm-2d, with --flip 1)")
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")

@@ -13,6 +13,8 @@ window by window (docs/results.md, "Fig 6A: plate drag"). Each run is cached as 
     python examples/plate_drag_travel.py --band 0 --youngs-modulus 4e6 # ~6 min
     python examples/plate_drag_travel.py --band 0 --speeds 0.04 0.16 0.64 --travel 0.08 \
         --windows 0.02 0.04 0.08 --cfl 0.15 --flip 1   # the time step and the transfer (docs/mpm.md)
+    python examples/plate_drag_travel.py --band 0 --speeds 0.04 0.16 0.64 --travel 0.08 \
+        --windows 0.02 0.04 0.08 --flip 1 --shape linear   # mpm-2d's shape functions
 """
 
 from __future__ import annotations
@@ -50,7 +52,8 @@ def excess_lambda(f_fast: np.ndarray, f_slow: np.ndarray, v_fast: float, v_slow:
 
 def _step_tag(args: argparse.Namespace) -> str:
     """The time step's and the transfer's part of a file name (empty for the defaults)."""
-    return ("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}") + ("" if args.flip == 0 else f"_flip{args.flip:g}")
+    return (("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}") + ("" if args.flip == 0 else f"_flip{args.flip:g}")
+            + ("" if args.shape == "quadratic" else f"_{args.shape}"))
 
 
 def run_one(speed: float, args: argparse.Namespace) -> dict:
@@ -68,7 +71,7 @@ def run_one(speed: float, args: argparse.Namespace) -> dict:
     domain = (0.45, 0.15)
     case = PlateDragCase(depth=args.depth_mm * 1e-3, speed=speed, travel=args.travel, domain=domain,
                          cells=(round(domain[0] / h), round(domain[1] / h)), contact_band_cells=args.band,
-                         youngs_modulus=args.youngs_modulus, cfl=args.cfl, flip=args.flip)  # fmt: skip
+                         youngs_modulus=args.youngs_modulus, cfl=args.cfl, flip=args.flip, shape=args.shape)  # fmt: skip
     rows = Solver(case.config(cpu_threads=args.threads)).run()
     t = np.array([r["time"] for r in rows])
     data = {"speed": speed, "time": t.tolist(), "travel": (speed * t).tolist(),
@@ -89,6 +92,8 @@ def main() -> None:
     ap.add_argument("--youngs-modulus", type=float, default=1.0e6, help="Pa")
     ap.add_argument("--cfl", type=float, default=0.3, help="C in dt = C h sqrt(rho / E) (default 0.3, as every run)")
     ap.add_argument("--flip", type=float, default=0.0, help="FLIP's share of the velocity update, 0-1 (default 0: APIC)")
+    ap.add_argument("--shape", choices=["quadratic", "linear"], default="quadratic",
+                    help="shape functions of the transfers (default quadratic; linear: mpm-2d's, with --flip 1)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default="runs/plate-travel")
     args = ap.parse_args()
@@ -135,7 +140,7 @@ def main() -> None:
     for v in speeds:
         ax.plot(mid * 1e3, means[v], "o-", label=f"v = {v:g} m/s")
     ax.set(xlabel="travel (mm, window centre)", ylabel="drag per metre (N/m)")
-    ax.set_title(f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa, C {args.cfl:g}, FLIP {args.flip:g}", fontsize=8)
+    ax.set_title(f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa, C {args.cfl:g}, FLIP {args.flip:g}, {args.shape}", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(png_path, dpi=130)

@@ -121,6 +121,18 @@ def test_flip_reaches_the_solver_config_and_a_share_outside_0_1_is_refused():
         assert r.exit_code == 2 and "flip must be in [0, 1]" in r.output
 
 
+def test_shape_reaches_the_solver_config_and_an_unknown_one_is_refused():
+    from intrusim.cli_mpm import _case
+    from intrusim.scenarios.mpm_locomotion import mpm_config
+
+    case = _case("wheel", True, None, None, None, flip=1.0, shape="linear")
+    assert mpm_config(case.scenario, case.mpm, 30.0).transfer.shape == "linear"
+    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.shape == "quadratic"
+    for cmd in ("steady", "sweep"):
+        r = runner.invoke(app, ["mpm", cmd, "--quick", "--shape", "cubic"])
+        assert r.exit_code == 2 and "shape must be quadratic or linear" in r.output
+
+
 def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
     from intrusim.cli_mpm import _case
 

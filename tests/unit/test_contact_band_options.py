@@ -1,5 +1,5 @@
 """examples/mpm_contact_band.py wheel: the set-up options a Froude twin scales (--start-x,
---youngs-modulus, --ramp-time, --chunk, --cfl) and the transfer's --flip are validated before any
+--youngs-modulus, --ramp-time, --chunk, --cfl) and the transfer's --flip and --shape are validated before any
 simulation starts."""
 
 import subprocess
@@ -28,4 +28,10 @@ def test_a_bad_setting_is_refused_by_name(option, value, field, tmp_path):
 def test_a_start_past_the_treadmill_trigger_is_refused(tmp_path):
     res = _run("--domain", "0.5", "0.2", "--treadmill", "0.325", "0.25", "--start-x", "0.4", "--out", str(tmp_path))
     assert res.returncode != 0 and "must lie ahead of start_x" in res.stderr
+    assert not any(tmp_path.iterdir())
+
+
+def test_an_unknown_shape_is_refused(tmp_path):
+    res = _run("--shape", "cubic", "--out", str(tmp_path))
+    assert res.returncode == 2 and "invalid choice: 'cubic'" in res.stderr
     assert not any(tmp_path.iterdir())

@@ -36,7 +36,8 @@ def test_excess_lambda_returns_the_lambda_of_a_pure_v2_excess():
 
 @pytest.mark.parametrize("options, message", [(["--speeds", "0.04"], "--speeds"), (["--speeds", "0.04", "0.04"], "--speeds"),
                                               (["--windows", "0.02", "0.3"], "--windows"), (["--band", "-1"], "--band"),
-                                              (["--flip", "2"], "--flip"), (["--cfl", "0"], "--cfl")])  # fmt: skip
+                                              (["--flip", "2"], "--flip"), (["--cfl", "0"], "--cfl"),
+                                              (["--shape", "cubic"], "--shape")])  # fmt: skip
 def test_bad_options_are_refused_before_any_run(options, message, tmp_path):
     res = subprocess.run([sys.executable, str(SCRIPT), *options, "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert res.returncode == 2 and message in res.stderr

@@ -248,6 +248,14 @@ class TransferConfig(_Model):
         "group. The affine matrix C and the positions follow the grid velocity either way. FLIP runs the "
         "one-point kernels (the vectorised G2P is APIC only)",
     )
+    shape: Literal["quadratic", "linear"] = Field(
+        "quadratic",
+        description="shape functions of P2G and G2P: quadratic B-splines (the default, with APIC's affine "
+        "momentum) or linear: the bilinear functions of each point's cell, as the mpm-2d code of the paper's "
+        "group, with the momentum m_p v_p alone and the stress force -V_p sigma_p grad w (APIC's affine part "
+        "needs the quadratic splines, so use it with flip = 1; flip = 0 is then PIC). Linear runs the one-point "
+        "kernels; the nonlocal fluidity field keeps its quadratic stencil",
+    )
 
 
 class OutputConfig(_Model):

@@ -46,6 +46,7 @@ class PlateDragCase:
     contact_band_cells: float = 1.0  # nodes this close outside the plate are in contact (docs/mpm.md)
     cfl: float = 0.3  # C in dt = C h sqrt(rho / E) (TimeConfig.cfl)
     flip: float = 0.0  # FLIP's share of the velocity update (TransferConfig.flip; 0: APIC)
+    shape: str = "quadratic"  # shape functions of the transfers (TransferConfig.shape)
 
     def config(self, directory: str | None = None, **backend) -> MPMConfig:
         t_end = self.travel / self.speed
@@ -63,7 +64,7 @@ class PlateDragCase:
             )],
             contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, cfl=self.cfl, v_max_expected=max(self.speed, 0.5)),
-            transfer=TransferConfig(flip=self.flip),
+            transfer=TransferConfig(flip=self.flip, shape=self.shape),
             output=OutputConfig(directory=directory, record_every=t_end / 100),
             backend=backend or {},
         )

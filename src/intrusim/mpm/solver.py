@@ -94,10 +94,12 @@ class Solver:
         self.dt = cfg.time.dt or dt_max
         # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
         # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
-        # and APIC only (FLIP runs the one-point kernels)
+        # and APIC on quadratic splines only (FLIP and linear shape functions run the one-point kernels)
+        self.linear = cfg.transfer.shape == "linear"
         self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-                       and self.flip == 0)
-        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0)
+                       and self.flip == 0 and not self.linear)
+        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0,
+                               self.linear)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
                          if isinstance(self.material, NonlocalFluidity) else None)
         # by the obstacles still in place: the step's launches, and its graph once compiled
@@ -124,7 +126,7 @@ class Solver:
         lanes = self._lanes and g.chunks > 1  # the vectorised scatters (P2G, fluidity sources) are the chunked ones
         launches = [
             # 1. P2G (copies left zeroed by 2.)
-            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes, g.flip), p2g_args(p, g, dt),
+            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes, g.flip, self.linear), p2g_args(p, g, dt),
                    unscalarized=lanes),
             Launch(grid_update_kernel(g.flip), (  # 2. momentum + gravity, walls
                 g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,

@@ -1,4 +1,5 @@
-"""Particle <-> grid transfers with quadratic B-splines and APIC (MLS-MPM form).
+"""Particle <-> grid transfers with quadratic B-splines and APIC (MLS-MPM form); linear (tent)
+shape functions as an option (``TransferConfig.shape``, one-point kernels only).
 
 APIC (Jiang et al. 2015) is used rather than a FLIP/PIC blend: it conserves linear and angular
 momentum, has no FLIP noise or PIC damping parameter to tune, and its affine matrix C is the
@@ -25,6 +26,25 @@ def quadratic_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
     fx = Xp - base
     w = [0.5 * (1.5 - fx) ** 2, 0.75 - (fx - 1.0) ** 2, 0.5 * (fx - 0.5) ** 2]
     return base, fx, w
+
+
+@ti.func
+def linear_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
+    """Base node, fractional offset and the 2 tent weights per axis of point xp (m): w = 1 - f, f;
+    their derivatives are -1/h, +1/h (the cell's bilinear shape functions, as the mpm-2d code)."""
+    Xp = xp * inv_h + pad
+    base = ti.cast(ti.floor(Xp), ti.i32)
+    base = ti.math.clamp(base, 0, ti.Vector([n0 - 2, n1 - 2]))
+    fx = Xp - base
+    w = [1.0 - fx, fx]
+    return base, fx, w
+
+
+@ti.func
+def not_finite(vec, mat) -> bool:
+    """True if a component of the vector or the matrix is NaN or infinite."""
+    return (ti.math.isnan(vec).any() or ti.math.isinf(vec).any()
+            or ti.math.isnan(mat).any() or ti.math.isinf(mat).any())
 
 
 @ti.func
@@ -56,8 +76,7 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     first = record_index(c, base[0], base[1], nx, ny)
     scattered = True
     if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
-        if (ti.math.isnan(q0).any() or ti.math.isinf(q0).any()
-                or ti.math.isnan(affine).any() or ti.math.isinf(affine).any()):
+        if not_finite(q0, affine):
             set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
             scattered = False
         else:
@@ -92,15 +111,52 @@ def scatter_momentum(gmo: ti.template(), first, w, q0, ca, cb, ny, mode: ti.temp
 
 
 @ti.func
+def scatter_point_linear(p, c, x: ti.template(), v: ti.template(), mass: ti.template(), vol: ti.template(),
+                         sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale,
+                         gmo: ti.template(), flip: ti.template()):
+    """m_i += w m_p ;  (m v)_i += w m_p v_p - dt V_p sigma_p grad w  (linear shape functions, no affine part).
+
+    With ``flip`` also (m v_old)_i += w m_p v_p into ``gmo``. The records, modes and the NaN mark as
+    :func:`scatter_point`'s, on the 2 x 2 nodes of the point's cell. Returns the base node.
+    """
+    inv_h = 1.0 / h
+    base, fx, w = linear_weights(get_vec2(x, p), inv_h, pad, nx, ny)
+    mp = get_scalar(mass, p)
+    q = mp * get_vec2(v, p)
+    s = (dt * get_scalar(vol, p) * inv_h) * get_sym2(sigma, p)  # dt V_p sigma_p / h
+    first = record_index(c, base[0], base[1], nx, ny)
+    scattered = True
+    if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
+        if not_finite(q, s):
+            set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
+            scattered = False
+    if scattered:
+        for a in ti.static(range(2)):
+            for b in ti.static(range(2)):
+                weight = w[a][0] * w[b][1]
+                grad = ti.Vector([(2 * a - 1) * w[b][1], (2 * b - 1) * w[a][0]])  # h grad w_ab
+                q_ab = weight * q - s @ grad
+                scatter_add(gmp, first + a * ny + b, make_record(gmp, q_ab[0], q_ab[1], weight * mp), mode, scale)
+                if ti.static(flip):
+                    scatter_add(gmo, first + a * ny + b, weight * q, mode, scale)
+    return base
+
+
+@ti.func
 def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(),
                          mass: ti.template(), vol: ti.template(), sigma: ti.template(), gmp: ti.template(),
-                         nx, ny, h, pad, dt, scale, gmo: ti.template(), flip: ti.template()):
-    """The points of blocks [first, end) (below n) into grid copy c one at a time (:func:`scatter_point`);
-    returns the node box (i0, i1, j0, j1)."""
+                         nx, ny, h, pad, dt, scale, gmo: ti.template(), flip: ti.template(),
+                         linear: ti.template()):
+    """The points of blocks [first, end) (below n) into grid copy c one at a time (:func:`scatter_point`,
+    or :func:`scatter_point_linear`); returns the node box (i0, i1, j0, j1)."""
     lo = ti.Vector([nx, ny])
     hi = ti.Vector([0, 0])
     for p in range(first * LANES, ti.min(end * LANES, n)):
-        base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale, gmo, flip)
+        base = lo
+        if ti.static(linear):
+            base = scatter_point_linear(p, c, x, v, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale, gmo, flip)
+        else:
+            base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale, gmo, flip)
         lo = ti.min(lo, base)
         hi = ti.max(hi, base + 3)
     return lo[0], hi[0], lo[1], hi[1]
@@ -109,12 +165,13 @@ def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C
 CHUNK_SPREAD = 1024  # outer iterations per P2G chunk (see p2g_kernel)
 
 
-def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bool = False):
+def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bool = False, linear: bool = False):
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
     one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
     (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
     ``flip`` (one-point only): it also sums the momentum before forces into its last argument
     (``Grid.mo_parts``, FLIP's old grid velocity); without it that argument is not touched.
+    ``linear`` (one-point only): linear shape functions (:func:`scatter_point_linear`).
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
     ``ti.graph`` (see step_graph), which takes no template parameters.
@@ -124,10 +181,15 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
         raise ValueError("the vectorised P2G is the chunked one (private copies, no atomics)")
     if lanes and flip:
         raise ValueError("the vectorised P2G is APIC only: FLIP runs the one-point kernel")
-    return _P2G_KERNELS[(mode, lanes, flip)]
+    if lanes and linear:
+        raise ValueError("the vectorised P2G is quadratic only: linear shape functions run the one-point kernel")
+    key = (mode, lanes, flip, linear)
+    if key not in _P2G_KERNELS:
+        _P2G_KERNELS[key] = _make_p2g_kernel(mode, lanes, flip, linear)
+    return _P2G_KERNELS[key]
 
 
-def _make_p2g_kernel(mode: int, lanes: bool, flip: bool):
+def _make_p2g_kernel(mode: int, lanes: bool, flip: bool, linear: bool):
     chunked = mode == PLAIN
 
     @ti.kernel
@@ -161,20 +223,22 @@ def _make_p2g_kernel(mode: int, lanes: bool, flip: bool):
                             c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
                     else:
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip)
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip,
+                            linear)
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(n):
-                scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, flip)
+                if ti.static(linear):
+                    scatter_point_linear(p, 0, x, v, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, flip)
+                else:
+                    scatter_point(p, 0, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, mode, scale, gmo, flip)
 
     return p2g_scatter
 
 
-_P2G_KERNELS = {(mode, False, flip): _make_p2g_kernel(mode, False, flip) for mode in (PLAIN, ATOMIC, FIXED)
-                for flip in (False, True)}  # fmt: skip
-_P2G_KERNELS[(PLAIN, True, False)] = _make_p2g_kernel(PLAIN, True, False)
+_P2G_KERNELS: dict = {}  # by (mode, lanes, flip, linear), made on first use
 
 
 @ti.func
@@ -271,13 +335,35 @@ def g2p_point(x, gv: ti.template(), h, pad):
 
 
 @ti.func
-def interpolate_point(x, g: ti.template(), h, pad):
-    """sum w_i g_i over the 3 x 3 stencil of the point at x (a grid field of 2-vectors)."""
-    base, fx, w = quadratic_weights(x, 1.0 / h, pad, g.shape[0], g.shape[1])
+def g2p_point_linear(x, gv: ti.template(), h, pad):
+    """v_p = sum w v_i ;  L_p = sum v_i (grad w)^T  with the linear shape functions of the point's cell."""
+    inv_h = 1.0 / h
+    base, fx, w = linear_weights(x, inv_h, pad, gv.shape[0], gv.shape[1])
+    s0 = ti.Vector([0.0, 0.0])
+    L = ti.Matrix([[0.0, 0.0], [0.0, 0.0]])
+    for a in ti.static(range(2)):
+        for b in ti.static(range(2)):
+            vi = gv[base[0] + a, base[1] + b]
+            s0 += (w[a][0] * w[b][1]) * vi
+            L += vi.outer_product(ti.Vector([(2 * a - 1) * w[b][1], (2 * b - 1) * w[a][0]]))  # h grad w_ab
+    return s0, inv_h * L
+
+
+@ti.func
+def interpolate_point(x, g: ti.template(), h, pad, linear: ti.template()):
+    """sum w_i g_i over the stencil of the point at x (a grid field of 2-vectors): the 3 x 3 nodes of
+    the quadratic B-splines, or with ``linear`` the 2 x 2 of the point's cell."""
     s = ti.Vector([0.0, 0.0])
-    for a in ti.static(range(3)):
-        for b in ti.static(range(3)):
-            s += (w[a][0] * w[b][1]) * g[base[0] + a, base[1] + b]
+    if ti.static(linear):
+        base, fx, w = linear_weights(x, 1.0 / h, pad, g.shape[0], g.shape[1])
+        for a in ti.static(range(2)):
+            for b in ti.static(range(2)):
+                s += (w[a][0] * w[b][1]) * g[base[0] + a, base[1] + b]
+    else:
+        base, fx, w = quadratic_weights(x, 1.0 / h, pad, g.shape[0], g.shape[1])
+        for a in ti.static(range(3)):
+            for b in ti.static(range(3)):
+                s += (w[a][0] * w[b][1]) * g[base[0] + a, base[1] + b]
     return s
 
 
@@ -391,7 +477,7 @@ def exp_near_zero_lanes(x):
 _G2P_KERNELS: dict = {}
 
 
-def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool = False):
+def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool = False, linear: bool = False):
     """G2P + density + stress kernel for a material ``ti.func`` taking ``n_params`` parameters
     (one compiled kernel per law, parameter count and form).
 
@@ -416,13 +502,16 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
 
     ``flip`` (one-point only): the last two arguments, the grid velocity before forces (``Grid.v_old``)
     and FLIP's share of the new velocity (``TransferConfig.flip``), are used; without it they are not
-    touched (placeholders).
+    touched (placeholders). ``linear`` (one-point only): linear shape functions (:func:`g2p_point_linear`).
     """
-    key = (stress_update, n_params, lanes, flip)
+    key = (stress_update, n_params, lanes, flip, linear)
     if key in _G2P_KERNELS:
         return _G2P_KERNELS[key]
     if flip and lanes:
         raise ValueError("the vectorised G2P is APIC only: FLIP runs the one-point kernel")
+    if linear and lanes:
+        raise ValueError("the vectorised G2P is quadratic only: linear shape functions run the one-point kernel")
+    gather = g2p_point_linear if linear else g2p_point
     law = stress_update.components
 
     @ti.func
@@ -453,10 +542,10 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for p in range(x.shape[0] * LANES):  # a range-for: a struct-for over an ndarray is ~9x slower on CPU
                 xp = get_vec2(x, p)
-                new_v, L = g2p_point(xp, gv, h, pad)
+                new_v, L = gather(xp, gv, h, pad)
                 v_point = new_v
                 if ti.static(flip):  # v_p <- share (v_p + sum w (v_i - v_old_i)) + (1 - share) sum w v_i
-                    v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad)
+                    v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad, linear)
                     v_point = share * v_flip + (1.0 - share) * new_v
                 point_after_g2p(p, xp, v_point, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm,
                                 inv_rho_floor)

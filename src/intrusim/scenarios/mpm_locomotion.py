@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -70,6 +70,8 @@ class MPMSettings(Config):
     cfl : C of dt = C h sqrt(rho_c / E).
     flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; 0: APIC, as the
         paper-set-up runs; 1: FLIP, the method of the paper's group's mpm-2d code).
+    shape : shape functions of the transfers (``TransferConfig.shape``): "quadratic" (B-splines, as
+        every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     contact_band_cells : grid nodes closer than this many cells outside the body are in contact
         (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
     arch, precision, cpu_threads : Taichi backend.
@@ -100,6 +102,7 @@ class MPMSettings(Config):
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
     flip: float = Field(0.0, ge=0.0, le=1.0)
+    shape: Literal["quadratic", "linear"] = "quadratic"
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
@@ -233,7 +236,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
         gravity=(0.0, -scenario.gravity),
         contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
-        transfer=TransferConfig(flip=s.flip),
+        transfer=TransferConfig(flip=s.flip, shape=s.shape),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5),
         backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),
     )  # fmt: skip
