@@ -16,6 +16,10 @@ with separation, walls) it prints, all measured in the same run:
   runtime copy of an ndarray, a device memcpy on a GPU, and memcpy on the host),
 * optionally (``--rate-laws``) the step with the mu(I) friction and with the nonlocal fluidity
   (not the paper's law), as a ratio to the paper's law's step,
+* optionally (``--transfers``) the step with the other transfers, in alternate rounds with the
+  default (APIC on quadratic B-splines, vectorised): APIC with the one-point kernels, FLIP
+  (``transfer.flip = 1``) on quadratic B-splines and FLIP on linear shape functions
+  (``transfer.shape = "linear"``, the paper's group's mpm-2d), as ratios to the default,
 * optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
   (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
   from a short run, and the same step with the wheel's dynamics on the host (its impulse read
@@ -27,6 +31,7 @@ Each thread count runs in its own process (Taichi is initialised once per proces
     python benchmarks/bench_mpm.py --threads 2 --wheel
     python benchmarks/bench_mpm.py --arch cuda --threads all --cases 64k,160k,1M,4M   # a GPU
     python benchmarks/bench_mpm.py --threads 2 --repeat 5   # 5 runs: how often each target is met
+    python benchmarks/bench_mpm.py --threads 1,2 --no-numpy --transfers --cases 64k   # FLIP, linear
 
 On the shared 2-core machines one run's ratios move by up to 1.5x from run to run (the NumPy step,
 the copy bandwidth and the step all vary), so a verdict counts the runs that meet each target.
@@ -134,8 +139,16 @@ RATE_LAWS = {  # --rate-laws: the options that are not the paper's law, against 
 }
 
 
+TRANSFERS = {  # label: TransferConfig fields (and simd_lanes) of the --transfers variants
+    "APIC, one-point kernels": (dict(), False),
+    "FLIP, quadratic": (dict(flip=1.0), True),
+    "FLIP, linear": (dict(flip=1.0, shape="linear"), True),
+}
+
+
 def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True,
-               material: dict | None = None, deterministic_sums: bool = True, simd_lanes: bool = True):
+               material: dict | None = None, deterministic_sums: bool = True, simd_lanes: bool = True,
+               transfer: dict | None = None):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
@@ -143,6 +156,7 @@ def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = No
         domain=DomainConfig(size=domain, cells=cells),
         material=material or {},
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
+        transfer=transfer or {},
         backend=dict(arch=arch, step_graph=step_graph, deterministic_sums=deterministic_sums, simd_lanes=simd_lanes,
                      **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
     )
@@ -236,7 +250,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
 
 
 def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bool = False,
-            cases: str = DEFAULT_CASES) -> dict:
+            cases: str = DEFAULT_CASES, transfers: bool = False) -> dict:
     """All figures for one thread count (this process initialises Taichi)."""
     from intrusim.mpm.backend import ensure_initialized
 
@@ -281,6 +295,13 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
         direct = bed_solver(domain, cells, bed, arch, step_graph=False)
         row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
         del direct
+        if transfers:  # each other transfer against the default, alternate rounds (FLIP and linear: one-point kernels)
+            solvers = {"default": bed_solver(domain, cells, bed, arch)}
+            solvers.update({k: bed_solver(domain, cells, bed, arch, transfer=t, simd_lanes=lanes)
+                            for k, (t, lanes) in TRANSFERS.items()})
+            best = time_alternating(solvers)
+            row["transfers_ms_per_step"] = {k: ms * 1e3 for k, ms in best.items()}
+            del solvers
         if rate_laws:  # each rate law's step (all its kernels run on the resting bed too)
             row["rate_laws_ms_per_step"] = {
                 name: time_steps(bed_solver(domain, cells, bed, arch, material=m)) * 1e3 for name, m in RATE_LAWS.items()}
@@ -297,6 +318,7 @@ def main() -> None:
     ap.add_argument("--no-numpy", action="store_true", help="skip the (slow) NumPy baseline")
     ap.add_argument("--repeat", type=int, default=1, help="run the whole benchmark this many times and summarise")
     ap.add_argument("--rate-laws", action="store_true", help="also time the step with mu(I) and with the nonlocal fluidity")
+    ap.add_argument("--transfers", action="store_true", help="also time the step with FLIP and with linear shape functions")
     ap.add_argument("--cases", default=DEFAULT_CASES,
                     help=f"comma-separated bed sizes from {', '.join(CASES)} (NumPy baseline up to {NUMPY_MAX_POINTS:,} points)")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -308,7 +330,8 @@ def main() -> None:
         ap.error(f"--cases: unknown {unknown}; choose from {', '.join(CASES)}")
     if args.child is not None:
         threads = None if args.child == "all" else int(args.child)
-        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy, args.rate_laws, args.cases)))
+        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy, args.rate_laws, args.cases,
+                                 args.transfers)))
         return
     runs = []
     for k in range(args.repeat):
@@ -318,6 +341,7 @@ def main() -> None:
             cmd += ["--wheel"] if args.wheel else []
             cmd += ["--no-numpy"] if args.no_numpy else []
             cmd += ["--rate-laws"] if args.rate_laws else []
+            cmd += ["--transfers"] if args.transfers else []
             env = {**os.environ, "INTRUSIM_TI_THREADS": ""}
             proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
             if proc.returncode != 0:
@@ -389,6 +413,13 @@ def report(results: list[dict], arch: str) -> None:
             for name, ms in c.get("rate_laws_ms_per_step", {}).items():
                 print(f"{r['threads']} threads, {label}: {name} (not the paper's law) {ms:.2f} ms/step, "
                       f"{ms / c['ms_per_step']:.2f}x the paper's law's {c['ms_per_step']:.2f}")
+    for r in results:
+        for label, c in r["cases"].items():
+            t = c.get("transfers_ms_per_step")
+            if t:
+                print(f"{r['threads']} threads, {label}: " + ", ".join(
+                    f"{name} {ms:.2f} ms/step ({ms / t['default']:.2f}x)" for name, ms in t.items() if name != "default")
+                    + f"; the default (APIC, quadratic, vectorised) {t['default']:.2f} (alternate rounds, best of 5)")
     for r in results:
         print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
               f"Taichi runtime copy {r['runtime_copy_GBs']:.1f} GB/s, host memcpy {r['memcpy_GBs']:.1f} GB/s "
