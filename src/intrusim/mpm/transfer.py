@@ -41,10 +41,17 @@ def linear_weights(xp, inv_h: float, pad: int, n0: int, n1: int):
 
 
 @ti.func
-def not_finite(vec, mat) -> bool:
-    """True if a component of the vector or the matrix is NaN or infinite."""
-    return (ti.math.isnan(vec).any() or ti.math.isinf(vec).any()
-            or ti.math.isnan(mat).any() or ti.math.isinf(mat).any())
+def kept_or_marked(x: ti.template(), p, vec, mat, mode: ti.template()) -> bool:
+    """Whether point p's records go into the sums. In FIXED mode integers carry no NaN, so a point
+    whose ``vec`` or ``mat`` is not finite is left out and marked instead (its position set to NaN,
+    for the guard); in the float modes every point is kept (a NaN then shows in the sums)."""
+    kept = True
+    if ti.static(mode == FIXED):
+        if (ti.math.isnan(vec).any() or ti.math.isinf(vec).any()
+                or ti.math.isnan(mat).any() or ti.math.isinf(mat).any()):
+            set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
+            kept = False
+    return kept
 
 
 @ti.func
@@ -74,14 +81,8 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     ca = h * ti.Vector([affine[0, 0], affine[1, 0]])
     cb = h * ti.Vector([affine[0, 1], affine[1, 1]])
     first = record_index(c, base[0], base[1], nx, ny)
-    scattered = True
-    if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
-        if not_finite(q0, affine):
-            set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
-            scattered = False
-        else:
-            scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
-    else:
+    scattered = kept_or_marked(x, p, q0, affine, mode)
+    if scattered:
         scatter_stencil(gmp, first, w, q0, ca, cb, mp, ny, mode, scale)
     if ti.static(flip):  # the same with the momentum alone: affine = m_p C_p (not for a point marked above)
         if scattered:
@@ -125,12 +126,7 @@ def scatter_point_linear(p, c, x: ti.template(), v: ti.template(), mass: ti.temp
     q = mp * get_vec2(v, p)
     s = (dt * get_scalar(vol, p) * inv_h) * get_sym2(sigma, p)  # dt V_p sigma_p / h
     first = record_index(c, base[0], base[1], nx, ny)
-    scattered = True
-    if ti.static(mode == FIXED):  # integers carry no NaN: such a point is marked instead, for the guard
-        if not_finite(q, s):
-            set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
-            scattered = False
-    if scattered:
+    if kept_or_marked(x, p, q, s, mode):
         for a in ti.static(range(2)):
             for b in ti.static(range(2)):
                 weight = w[a][0] * w[b][1]
