@@ -38,6 +38,18 @@ def test_wheel_rear_surface_drop_grows_with_omega(wheel_runs):
     assert fast.surface_drop > slow.surface_drop  # Fig 5C
 
 
+def test_with_the_paper_groups_transfer_the_wheel_keeps_the_trends():
+    """FLIP on linear shape functions (the paper's group's mpm-2d): faster, more slip, deeper and a
+    deeper rear drop from 10 to 50 RPM, as with the default transfer (docs/results.md)."""
+    sc = grousered_wheel_scenario()
+    s = quick_settings("wheel").validated_copy(flip=1.0, shape="linear")
+    slow, fast = (run_mpm_steady(sc, s, rpm) for rpm in (10.0, 50.0))
+    assert fast.velocity > slow.velocity > 0
+    assert fast.slip > slow.slip + 0.05
+    assert fast.sinkage > slow.sinkage
+    assert fast.surface_drop > slow.surface_drop
+
+
 def test_runner_rises_as_omega_grows():
     sc = four_flap_runner_scenario()
     s = quick_settings("runner")
