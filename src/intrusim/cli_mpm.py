@@ -17,7 +17,7 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
           t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
           treadmill: str | None = None, arch: str | None = None, flip: float | None = None,
-          shape: str | None = None):
+          shape: str | None = None, drop_escaped: bool = False):
     from intrusim.mpm.config import FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
@@ -53,6 +53,8 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
         if shape not in ("quadratic", "linear"):
             raise InputError(f"shape must be quadratic or linear, got {shape!r}")
         settings = settings.model_copy(update=dict(shape=shape))
+    if drop_escaped:
+        settings = settings.model_copy(update=dict(drop_escaped=True))
     if t_max is not None:
         if not t_max > settings.ramp_time + settings.settle_time:
             raise InputError(f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}")
@@ -109,10 +111,12 @@ def steady(
     arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
     flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
+    drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
+                     drop_escaped)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -160,6 +164,7 @@ def sweep(
     arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
     flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
+    drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
     import os
@@ -168,7 +173,8 @@ def sweep(
 
     try:
         threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape)
+        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
+                     drop_escaped)
         out.mkdir(parents=True, exist_ok=True)
         res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     except (InputError, ValueError) as err:

@@ -133,6 +133,15 @@ def test_shape_reaches_the_solver_config_and_an_unknown_one_is_refused():
         assert r.exit_code == 2 and "shape must be quadratic or linear" in r.output
 
 
+def test_drop_escaped_reaches_the_solver_config():
+    from intrusim.cli_mpm import _case
+    from intrusim.scenarios.mpm_locomotion import mpm_config
+
+    case = _case("wheel", True, None, None, None, drop_escaped=True)
+    assert mpm_config(case.scenario, case.mpm, 30.0).output.escaped == "drop"
+    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).output.escaped == "stop"
+
+
 def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
     from intrusim.cli_mpm import _case
 

@@ -1,4 +1,4 @@
-"""Guards stop the run with a diagnosis and a failure checkpoint."""
+"""Guards stop the run with a diagnosis and a failure checkpoint (or, if asked, drop an escaped point)."""
 
 import numpy as np
 import pytest
@@ -8,12 +8,12 @@ from intrusim.mpm.diagnostics import SimulationError
 from intrusim.mpm.solver import Solver
 
 
-def _solver(tmp_path, p2g_chunks: int = 16):
+def _solver(tmp_path, p2g_chunks: int = 16, escaped: str = "stop"):
     cfg = MPMConfig(
         domain=DomainConfig(size=(0.1, 0.1), cells=(10, 10)),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=0.1, z1=0.05)]),
         time=TimeConfig(t_end=0.01),
-        output=OutputConfig(directory=str(tmp_path), guard_every_steps=1),
+        output=OutputConfig(directory=str(tmp_path), guard_every_steps=1, escaped=escaped),
         backend=dict(p2g_chunks=p2g_chunks),
     )
     return Solver(cfg)
@@ -62,3 +62,36 @@ def test_escape_is_reported(tmp_path):
     s.particles.load(d)
     with pytest.raises(SimulationError, match="escape.*point 3"):
         s.run()
+
+
+def test_an_escaped_point_can_be_dropped_instead(tmp_path, capsys):
+    """output.escaped = "drop": the point leaves the run (its mass counted in ``dropped``), the rest goes on,
+    and a checkpoint keeps the count."""
+    s = _solver(tmp_path, escaped="drop")
+    d = s.particles.to_numpy(["x", "mass"])
+    n0, m3 = s.particles.n, float(d["mass"][3])
+    d["x"][3] = (0.05, 0.5)  # above the open top
+    s.particles.load({"x": d["x"]})
+    s.run()
+    assert s.particles.n == n0 - 1
+    assert s.dropped == {"points": 1, "mass": pytest.approx(m3)}
+    assert "1 escaped point(s) dropped" in capsys.readouterr().err
+    s.save_checkpoint(tmp_path / "c.npz")
+    again = _solver(tmp_path / "again", escaped="drop")
+    again.load_checkpoint(tmp_path / "c.npz")
+    assert again.dropped == s.dropped and again.particles.n == n0 - 1
+
+
+def test_a_run_stopped_by_an_escape_goes_on_from_its_folder_with_drop(tmp_path):
+    """The folder of a "stop" run is taken by a "drop" run (the history up to its checkpoint dropped no
+    point), and not the other way round."""
+    from intrusim._checks import InputError
+    from intrusim.mpm.solver import refuse_other_run
+
+    stop = _solver(tmp_path)
+    stop.run()  # writes config.json
+    assert refuse_other_run(tmp_path, _solver(tmp_path, escaped="drop").cfg) is False  # same run, not longer
+    drop_dir = tmp_path / "drop"
+    _solver(drop_dir, escaped="drop").run()
+    with pytest.raises(InputError, match="differs in output.escaped"):
+        refuse_other_run(drop_dir, _solver(drop_dir).cfg)

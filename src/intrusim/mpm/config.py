@@ -269,6 +269,13 @@ class OutputConfig(_Model):
         description="a point more than this many cells outside [0, Lx] x [0, Lz] has escaped "
         "(walls act on grid nodes, so points may sit a fraction of a cell beyond them)",
     )
+    escaped: Literal["stop", "drop"] = Field(
+        "stop",
+        description="what an escaped point does: stop the run with a diagnosis and a failure checkpoint "
+        "(the default), or leave the simulation (a grain thrown out of the box; its mass leaves the time "
+        "series' grain_mass and is counted in Solver.dropped, as the paper's group's mpm-2d marks such "
+        "points inactive). NaN and CFL breaches stop the run either way",
+    )
 
 
 class BackendConfig(_Model):

@@ -7,6 +7,7 @@ obstacles, rigid-intruder contact, G2P with density and stress update, body inte
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -112,6 +113,7 @@ class Solver:
         self._impulse_mark_ahead = [np.zeros(3) for _ in self.intruders]
         self._step_mark = 0
         self.x_offset = 0.0  # m, how far shift_window has moved the scene back (bed frame x = x + x_offset)
+        self.dropped = {"points": 0, "mass": 0.0}  # escaped points left out (output.escaped = "drop"); mass kg/m
         self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
 
     # ------------------------------------------------------------------ the MPM step
@@ -190,8 +192,12 @@ class Solver:
         p = self.particles
         guard_scan(p.x, p.v, p.sigma, p.n, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
+        if out[0] == 0 and out[1] > 0 and self.cfg.output.escaped == "drop":
+            self._drop_escaped(lx, lz, self.cfg.output.escape_margin_cells * self.h)
+            out[1] = 0
         if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
             return
+        p = self.particles
         state = p.to_numpy(["x", "v"])
         diag = guard_report(out, state["x"], state["v"], self.dt, self.h, self.cfg.time.max_cell_fraction)
         where = ""
@@ -200,6 +206,20 @@ class Solver:
             self.save_checkpoint(path)
             where = f"; state saved to {path}"
         raise SimulationError(f"{diag} at t={self.t:.6g} s (step {self.step_count}){where}")
+
+    def _drop_escaped(self, lx: float, lz: float, margin: float) -> None:
+        """Leave out the points more than ``margin`` outside [0, lx] x [0, lz] (output.escaped = "drop"),
+        count them in ``dropped`` and say so on stderr."""
+        d = self.particles.to_numpy()
+        x = d["x"]
+        out = (x[:, 0] < -margin) | (x[:, 0] > lx + margin) | (x[:, 1] < -margin) | (x[:, 1] > lz + margin)
+        n, mass = int(out.sum()), float(d["mass"][out].sum())
+        self._replace_particles({k: a[~out] for k, a in d.items()})
+        self.dropped["points"] += n
+        self.dropped["mass"] += mass
+        i = int(np.flatnonzero(out)[0])
+        print(f"t = {self.t:.6g} s (step {self.step_count}): {n} escaped point(s) dropped, e.g. x={x[i]}, "
+              f"v={d['v'][i]}; {self.dropped['points']} so far, {self.dropped['mass']:.3g} kg/m", file=sys.stderr)
 
     def grain_energy_and_mass(self) -> tuple[float, float]:
         """Kinetic energy (J) and mass (kg) of the grains, 3D via the first intruder's width (else per m)."""
@@ -380,7 +400,7 @@ class Solver:
         """Atomic checkpoint of everything needed to continue bit-for-bit (single thread)."""
         meta = {
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
-            "step_mark": self._step_mark, "x_offset": self.x_offset,
+            "step_mark": self._step_mark, "x_offset": self.x_offset, "dropped": self.dropped,
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
             "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
@@ -413,6 +433,7 @@ class Solver:
         else:  # a moving window (shift_window) changed the number of points
             self._replace_particles(arrays)
         self.x_offset = float(meta.get("x_offset", 0.0))
+        self.dropped = dict(meta.get("dropped", {"points": 0, "mass": 0.0}))
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
         self._step_mark = int(meta["step_mark"])
@@ -477,8 +498,10 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
     ``cfg``, naming the differences. The thread count (the P2G sums do not depend on it) and the
     folder's own path (a moved folder) are not differences, and neither is a later end time: the
     same run, longer, goes on from the folder's checkpoint (nothing before the old end depends on
-    the end time, so it equals a run made that long from the start). Returns True if the folder
-    holds such a shorter run, which this one extends."""
+    the end time, so it equals a run made that long from the start), nor ``output.escaped`` turned from
+    "stop" to "drop" (a run that went on to its checkpoint dropped no point, so that history is the
+    same under either; a run stopped by an escape goes on from its last checkpoint). Returns True if
+    the folder holds such a shorter run, which this one extends."""
     import json
 
     config_path = Path(run_dir) / "config.json"
@@ -494,6 +517,8 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
     extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
     if extends:
         diff.remove("time.t_end")
+    if "output.escaped" in diff and (saved.get("output") or {}).get("escaped") == "stop" and cfg.output.escaped == "drop":
+        diff.remove("output.escaped")
     if diff:
         shown = ", ".join(diff[:6]) + (f" and {len(diff) - 6} more" if len(diff) > 6 else "")
         hint = " (a run can be extended to a later end time, not cut short)" if "time.t_end" in diff else ""

@@ -72,6 +72,8 @@ class MPMSettings(Config):
         paper-set-up runs; 1: FLIP, the method of the paper's group's mpm-2d code).
     shape : shape functions of the transfers (``TransferConfig.shape``): "quadratic" (B-splines, as
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
+    drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
+        mpm-2d marks such points inactive) instead of stopping it with a diagnosis (the default).
     contact_band_cells : grid nodes closer than this many cells outside the body are in contact
         (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
     arch, precision, cpu_threads : Taichi backend.
@@ -103,6 +105,7 @@ class MPMSettings(Config):
     cfl: float = Field(0.3, gt=0.0, le=1.0)
     flip: float = Field(0.0, ge=0.0, le=1.0)
     shape: Literal["quadratic", "linear"] = "quadratic"
+    drop_escaped: bool = False
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
@@ -237,7 +240,8 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
         contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
         transfer=TransferConfig(flip=s.flip, shape=s.shape),
-        output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5),
+        output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5,
+                            escaped="drop" if s.drop_escaped else "stop"),
         backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),
     )  # fmt: skip
 
@@ -401,7 +405,7 @@ def run_mpm_steady(
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
     meta = {"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept],
-            "x_offset": solver.x_offset}
+            "x_offset": solver.x_offset, "dropped_points": solver.dropped["points"]}
     return steady_from_series(
         series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta
     )
