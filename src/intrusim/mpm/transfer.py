@@ -154,7 +154,7 @@ def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C
         else:
             base = scatter_point(p, c, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, PLAIN, scale, gmo, flip)
         lo = ti.min(lo, base)
-        hi = ti.max(hi, base + 3)
+        hi = ti.max(hi, base + ti.static(2 if linear else 3))  # the stencil's nodes per axis
     return lo[0], hi[0], lo[1], hi[1]
 
 
