@@ -53,7 +53,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
-from intrusim.mpm.config import FluidityConfig
+from intrusim.mpm.config import SHAPES, FluidityConfig
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 from intrusim.scenarios.locomotor import with_lug_count, with_mass_z
 from intrusim.scenarios.mpm_locomotion import MPMSettings, paper_settings, run_mpm_steady, summarise_run, write_result
@@ -273,7 +273,7 @@ r.add_argument("--chunk", type=float, default=None, metavar="S",
 r.add_argument("--cfl", type=float, default=None, metavar="C", help="C of dt = C h sqrt(rho_c / E) (default 0.3)")
 r.add_argument("--flip", type=float, default=None, metavar="S",
                help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC; docs/mpm.md)")
-r.add_argument("--shape", choices=["quadratic", "linear"], default=None,
+r.add_argument("--shape", choices=SHAPES, default=None,
                help="shape functions of the transfers (default quadratic; linear: the cell's bilinear functions, "
                     "as the paper's group's mpm-2d, with --flip 1)")
 r.add_argument("--out", default="runs/resolution")

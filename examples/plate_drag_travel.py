@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from intrusim.mpm.config import SHAPES
+
 PLATE_RHO, PLATE_LENGTH = 900.0, 0.016  # Fig 6: rho 900 kg/m^3, 16 mm plate
 
 
@@ -92,7 +94,7 @@ def main() -> None:
     ap.add_argument("--youngs-modulus", type=float, default=1.0e6, help="Pa")
     ap.add_argument("--cfl", type=float, default=0.3, help="C in dt = C h sqrt(rho / E) (default 0.3, as every run)")
     ap.add_argument("--flip", type=float, default=0.0, help="FLIP's share of the velocity update, 0-1 (default 0: APIC)")
-    ap.add_argument("--shape", choices=["quadratic", "linear"], default="quadratic",
+    ap.add_argument("--shape", choices=SHAPES, default="quadratic",
                     help="shape functions of the transfers (default quadratic; linear: mpm-2d's, with --flip 1)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default="runs/plate-travel")

@@ -18,7 +18,7 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
           t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
           treadmill: str | None = None, arch: str | None = None, flip: float | None = None,
           shape: str | None = None, drop_escaped: bool = False):
-    from intrusim.mpm.config import FluidityConfig, MuIConfig
+    from intrusim.mpm.config import SHAPES, FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
@@ -50,8 +50,8 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
             raise InputError(f"flip must be in [0, 1], got {flip!r}")
         settings = settings.model_copy(update=dict(flip=float(flip)))
     if shape is not None:
-        if shape not in ("quadratic", "linear"):
-            raise InputError(f"shape must be quadratic or linear, got {shape!r}")
+        if shape not in SHAPES:
+            raise InputError(f"shape must be {' or '.join(SHAPES)}, got {shape!r}")
         settings = settings.model_copy(update=dict(shape=shape))
     if drop_escaped:
         settings = settings.model_copy(update=dict(drop_escaped=True))

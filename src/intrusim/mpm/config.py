@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import tomllib
 from pathlib import Path
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
@@ -238,6 +238,10 @@ class TimeConfig(_Model):
     dt: float | None = Field(None, gt=0, description="override dt, s (must satisfy both limits)")
 
 
+Shape = Literal["quadratic", "linear"]  # shape functions of the transfers (TransferConfig.shape)
+SHAPES: tuple[str, ...] = get_args(Shape)
+
+
 class TransferConfig(_Model):
     flip: float = Field(
         0.0, ge=0.0, le=1.0,
@@ -248,7 +252,7 @@ class TransferConfig(_Model):
         "group. The affine matrix C and the positions follow the grid velocity either way. FLIP runs the "
         "one-point kernels (the vectorised G2P is APIC only)",
     )
-    shape: Literal["quadratic", "linear"] = Field(
+    shape: Shape = Field(
         "quadratic",
         description="shape functions of P2G and G2P: quadratic B-splines (the default, with APIC's affine "
         "momentum) or linear: the bilinear functions of each point's cell, as the mpm-2d code of the paper's "

@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Literal
+from typing import Any, Callable
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -33,7 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
-from intrusim.mpm.config import FluidityConfig, MuIConfig
+from intrusim.mpm.config import FluidityConfig, MuIConfig, Shape
 from intrusim.mpm.io import atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
@@ -104,7 +104,7 @@ class MPMSettings(Config):
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
     flip: float = Field(0.0, ge=0.0, le=1.0)
-    shape: Literal["quadratic", "linear"] = "quadratic"
+    shape: Shape = "quadratic"
     drop_escaped: bool = False
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
