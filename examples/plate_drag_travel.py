@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 from pathlib import Path
 
 import numpy as np
@@ -60,27 +59,25 @@ def _step_tag(args: argparse.Namespace) -> str:
 
 def run_one(speed: float, args: argparse.Namespace) -> dict:
     """One drag run (cached): time, travel and drag per metre at each record."""
-    from intrusim.mpm.io import atomic_write_bytes
+    from intrusim.mpm.io import cached_json
     from intrusim.mpm.plate import PlateDragCase
     from intrusim.mpm.solver import Solver
 
     h = args.cell_mm * 1e-3
     tag = (f"d{args.depth_mm:g}mm_v{speed:g}_travel{args.travel:g}m_band{args.band:g}_E{args.youngs_modulus:g}"
            f"_h{args.cell_mm:g}mm{_step_tag(args)}")
-    path = Path(args.out) / f"{tag}.json"
-    if path.exists():
-        return json.loads(path.read_text())
-    domain = (0.45, 0.15)
-    case = PlateDragCase(depth=args.depth_mm * 1e-3, speed=speed, travel=args.travel, domain=domain,
-                         cells=(round(domain[0] / h), round(domain[1] / h)), contact_band_cells=args.band,
-                         youngs_modulus=args.youngs_modulus, cfl=args.cfl, flip=args.flip, shape=args.shape)  # fmt: skip
-    rows = Solver(case.config(cpu_threads=args.threads)).run()
-    t = np.array([r["time"] for r in rows])
-    data = {"speed": speed, "time": t.tolist(), "travel": (speed * t).tolist(),
-            "drag": (-np.array([r["fx"] for r in rows])).tolist()}  # fmt: skip
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_bytes(path, json.dumps(data).encode())  # a killed run leaves no half-written cache
-    return data
+
+    def run() -> dict:
+        domain = (0.45, 0.15)
+        case = PlateDragCase(depth=args.depth_mm * 1e-3, speed=speed, travel=args.travel, domain=domain,
+                             cells=(round(domain[0] / h), round(domain[1] / h)), contact_band_cells=args.band,
+                             youngs_modulus=args.youngs_modulus, cfl=args.cfl, flip=args.flip, shape=args.shape)  # fmt: skip
+        rows = Solver(case.config(cpu_threads=args.threads)).run()
+        t = np.array([r["time"] for r in rows])
+        return {"speed": speed, "time": t.tolist(), "travel": (speed * t).tolist(),
+                "drag": (-np.array([r["fx"] for r in rows])).tolist()}  # fmt: skip
+
+    return cached_json(Path(args.out) / f"{tag}.json", run)
 
 
 def main() -> None:

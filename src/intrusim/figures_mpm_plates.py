@@ -16,7 +16,6 @@ Measurements (forces per metre of width, plane strain):
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.plates import fit_drag_law  # noqa: E402
-from intrusim.mpm.io import atomic_write_bytes  # noqa: E402
+from intrusim.mpm.io import cached_json  # noqa: E402
 
 PAPER_DRAG = {"K": 580.0, "lambda": 1.1, "rho": 900.0, "length": 0.016}
 PAPER_VERTICAL = {"lambda": 2.8, "rho": 2500.0, "length": 0.16, "mu": 0.62}
@@ -40,16 +39,6 @@ VERTICAL_SPEEDS_QUICK = (0.1, 1.0, 2.0)
 
 def _root(runs: Path | None, quick: bool) -> Path:
     return Path(runs) if runs is not None else Path("runs") / ("plates-quick" if quick else "plates")
-
-
-def _cached(path: Path, compute) -> dict[str, Any]:
-    """Load ``path`` (JSON) or compute it and write it atomically."""
-    if path.exists():
-        return json.loads(path.read_text())
-    data = compute()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_bytes(path, json.dumps(data).encode())
-    return data
 
 
 def drag_case(depth: float, speed: float, quick: bool):
@@ -84,7 +73,7 @@ def drag_points(quick: bool, runs: Path | None, progress: bool = True, vary=None
             return {"depth_m": d, "speed_m_s": v, "force_N_per_m": -steady_force(rows, "fx"),
                     "lift_N_per_m": steady_force(rows, "fz"), "h_m": case.domain[0] / case.cells[0]}
 
-        out.append(_cached(_root(runs, quick) / f"drag_d{d * 1e3:.0f}mm_v{v:g}.json", run))
+        out.append(cached_json(_root(runs, quick) / f"drag_d{d * 1e3:.0f}mm_v{v:g}.json", run))
     return out
 
 
@@ -150,7 +139,7 @@ def vertical_series(quick: bool, runs: Path | None, progress: bool = True) -> li
             return {"speed_m_s": v, "depth_m": depth, "force_N_per_m": [r["fz"] for r in rows],
                     "time_s": [r["time"] for r in rows], "h_m": case.domain[0] / case.cells[0]}
 
-        out.append(_cached(_root(runs, quick) / f"vertical_v{v:g}.json", run))
+        out.append(cached_json(_root(runs, quick) / f"vertical_v{v:g}.json", run))
     return out
 
 

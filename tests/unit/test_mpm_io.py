@@ -43,3 +43,14 @@ def test_csv_columns_are_the_union_in_order_of_first_appearance(tmp_path):
     path = tmp_path / "ts.csv"
     write_csv(path, [{"time": 0.0, "fx": 1.0}, {"time": 0.1, "fx": 2.0, "fx_ahead": 1.5}])
     assert path.read_text().splitlines() == ["time,fx,fx_ahead", "0.0,1.0,", "0.1,2.0,1.5"]
+
+
+def test_cached_json_computes_once_and_then_reads_the_file(tmp_path):
+    from intrusim.mpm.io import cached_json
+
+    calls = []
+    path = tmp_path / "sub" / "run.json"
+    compute = lambda: calls.append(1) or {"drag": [1.5, 2.0]}  # noqa: E731
+    assert cached_json(path, compute) == {"drag": [1.5, 2.0]}
+    assert cached_json(path, compute) == {"drag": [1.5, 2.0]}
+    assert len(calls) == 1 and path.exists()

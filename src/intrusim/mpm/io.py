@@ -59,6 +59,18 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
         fh.write(data)
 
 
+def cached_json(path: Path, compute):
+    """The JSON in ``path``, or ``compute()``'s result written there atomically (a killed run leaves
+    no half-written cache) and returned."""
+    path = Path(path)
+    if path.exists():
+        return json.loads(path.read_text())
+    data = compute()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(path, json.dumps(data).encode())
+    return data
+
+
 def save_checkpoint(path: Path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     """Atomic .npz checkpoint: particle arrays plus a JSON ``meta`` entry."""
     with atomic_file(path) as fh:
