@@ -256,7 +256,7 @@ def calibrate(
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
             if any(c.label == label.strip() for c in checks):  # the comparisons are keyed by NAME: one would be lost
-                raise InputError(f"--check {label.strip()} given twice: put its omegas in one CSV (examples/steady_to_sweep.py takes several files)")
+                raise InputError(f"--check {label.strip()} given twice: put its omegas in one CSV (research/steady_to_sweep.py takes several files)")
             s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
             try:  # a bad check is refused before the fit, not after it
@@ -301,6 +301,18 @@ def _echo_comparison(c: Any) -> None:
         w, v0, v1, dv, s0, s1, ds = row
         typer.echo(f"{w:9.4g} | {v0:7.4f} | {v1:7.4f} | {dv:+6.1%} | {s0 * 1e3:8.2f} | {s1 * 1e3:9.2f} | {ds:+6.1%}")
     typer.echo(f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}")
+
+
+@app.command()
+def demo(
+    out: Path = typer.Option(Path("intrusim_demo"), help="Folder for demo.csv and demo.png."),
+    mpm: bool = typer.Option(True, help="Add one quick MPM point (30 RPM, 2 cm cells)."),
+) -> None:
+    """The paper's wheel under RFT, DRFT (10-90 RPM) and a quick MPM point: a table and a PNG."""
+    from intrusim.demo import run_demo
+
+    result = run_demo(out, mpm_omega_rpm=30.0 if mpm else None)
+    typer.echo("\n".join([result.table(), *result.notes, str(result.csv_path), str(result.png_path)]))
 
 
 def _register_mpm() -> None:

@@ -47,7 +47,7 @@ def mpm_sweep(
 ) -> SweepResult:
     """MPM steady states at ``rpm``: the finished run folders under the runs root; if some are
     missing and the root holds ``SCENARIO_mpm_sweep.csv`` (as ``intrusim mpm sweep`` and
-    ``examples/mpm_contact_band.py sweep`` write it), that file's finished rows, whatever their
+    ``research/mpm_contact_band.py sweep`` write it), that file's finished rows, whatever their
     omegas; otherwise the missing runs are run (and reused next time)."""
     import os
 
