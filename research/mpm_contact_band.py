@@ -120,7 +120,7 @@ def run(args: argparse.Namespace) -> None:
 
 
 def plate(args: argparse.Namespace) -> None:
-    from intrusim.figures_mpm_plates import drag_fit, drag_points
+    from intrusim.figures.mpm_plates import drag_fit, drag_points
 
     def vary(case):
         cells = tuple(round(L / (args.cell_mm * 1e-3)) for L in case.domain)

@@ -223,7 +223,7 @@ def calibrate(
     from intrusim.analysis.calibration import calibrate as fit
     from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
-    from intrusim.figures_calibration import Check, psi_from_surface_drop, write_calibration
+    from intrusim.figures.calibration import Check, psi_from_surface_drop, write_calibration
     from intrusim.scenarios import load_scenario
 
     try:

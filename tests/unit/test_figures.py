@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from intrusim.figures import fig7bc
+from intrusim.figures.rft import fig7bc
 
 
 def test_fig7bc_quick_csv_is_nondimensionalised(tmp_path):
@@ -40,7 +40,7 @@ def test_vertical_plate_lambda_recovers_a_synthetic_static_plus_inertial_law():
     import numpy as np
     import pytest
 
-    from intrusim.figures_mpm_plates import static_plus_inertial_lambda
+    from intrusim.figures.mpm_plates import static_plus_inertial_lambda
 
     rho, area, lam = 2500.0, 0.16, 2.8
     depth = np.linspace(-0.005, 0.08, 200)

@@ -26,6 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.plates import fit_drag_law  # noqa: E402
+from intrusim.figures._output import save_figure  # noqa: E402
 from intrusim.mpm.io import cached_json  # noqa: E402
 
 PAPER_DRAG = {"K": 580.0, "lambda": 1.1, "rho": 900.0, "length": 0.016}
@@ -88,7 +89,6 @@ def drag_fit(pts: list[dict[str, float]]) -> tuple[float, float, float]:
 
 def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
     """Fig 6A with MPM: drag vs speed at |z| = 20/30/40 mm, and the fit F = K|z| + lambda rho A v^2."""
-    from intrusim.figures_mpm import _save
 
     pts = drag_points(quick, runs)
     d, v, f = (np.array([p[k] for p in pts]) for k in ("depth_m", "speed_m_s", "force_N_per_m"))
@@ -109,7 +109,7 @@ def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path 
     ax.set_title(f"Fig 6A (MPM): fit K = {K:.0f} N/m, lambda = {lam:.2f}; dotted: fit, thin: paper (580, 1.1)", fontsize=7)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    return _save(fig, out, "fig6a_mpm", rows)
+    return save_figure(fig, out, "fig6a_mpm", rows)
 
 
 def vertical_case(speed: float, quick: bool):
@@ -166,7 +166,6 @@ def static_plus_inertial_lambda(series: list[dict[str, Any]], rho: float, area: 
 def figs3b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True,
            min_depth: float = 0.01) -> list[Path]:
     """Fig S3B: vertical plate intrusion (MPM); lambda of F = F_static(z) + lambda rho A v^2 (paper 2.8)."""
-    from intrusim.figures_mpm import _save
 
     series = vertical_series(quick, runs)
     rho, area = PAPER_VERTICAL["rho"], PAPER_VERTICAL["length"]
@@ -185,7 +184,4 @@ def figs3b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
                  fontsize=7)  # fmt: skip
     ax.legend(fontsize=7)
     fig.tight_layout()
-    return _save(fig, out, "figs3b", rows)
-
-
-PLATE_FIGURES = {"fig6a-mpm": fig6a_mpm, "figs3b": figs3b}
+    return save_figure(fig, out, "figs3b", rows)

@@ -19,6 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
+from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
@@ -70,25 +71,13 @@ def mpm_sweep(
     return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
 
 
-def _save(fig: Any, out: Path, name: str, rows: list[dict[str, Any]]) -> list[Path]:
-    from intrusim.figures import _csv
-
-    out.mkdir(parents=True, exist_ok=True)
-    png, csv_path = out / f"{name}.png", out / f"{name}.csv"
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
-    _csv(csv_path, rows)
-    return [png, csv_path]
-
-
 def fig3ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
     """Fig 3A-B: MPM wheel, steady velocity and sinkage vs omega (non-dimensional)."""
-    from intrusim.figures import _write
     from intrusim.scenarios import grousered_wheel_scenario
 
     s = grousered_wheel_scenario()
     res = mpm_sweep(s, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs)
-    return _write(out, "fig3ab", [("MPM", s, res)], "Fig 3A-B: grousered wheel, MPM (Table S1 set-up)")
+    return write_curves(out, "fig3ab", [("MPM", s, res)], "Fig 3A-B: grousered wheel, MPM (Table S1 set-up)")
 
 
 def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
@@ -124,7 +113,7 @@ def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     rows = [{"omega_rpm": o, "r_omega2_over_g": xi, "dh_mpm_m": d, "dh_paper_law_m": r * xi, "fit_a": a,
              "affine_dh0_m": dh0, "affine_b": b}
             for o, xi, d in zip(res.omega_rpm, x, dh)]  # fmt: skip
-    return _save(fig, out, "fig5c", rows)
+    return save_figure(fig, out, "fig5c", rows)
 
 
 def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> dict[str, np.ndarray]:
@@ -189,7 +178,7 @@ def fig3cd(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     axes[2].axvline(0, color="0.6", lw=0.5)
     axes[2].set(xlabel="grain v_x below the centre (m/s)", ylabel="-(depth below centre) (m)", title="Fig 3D profile")
     axes[2].legend(fontsize=7)
-    return _save(fig, out, "fig3cd", rows)
+    return save_figure(fig, out, "fig3cd", rows)
 
 
 def fig5d(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
@@ -209,14 +198,9 @@ def fig5d(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
         rows.append({"omega_rpm": rpm, "t_s": float(d["t"]), "max_gdot_p": float(d["gdot_p"].max()),
                      "sheared_area_m2_gdot_gt_1": float(np.sum(d["gdot_p"] > 1.0)) * (np.ptp(d["x"], axis=0).prod() / len(d["x"]))})  # fmt: skip
     fig.colorbar(sc, ax=axes, label="equivalent plastic strain rate (1/s)", fraction=0.02)
-    return _save(fig, out, "fig5d", rows)
+    return save_figure(fig, out, "fig5d", rows)
 
 
 def with_mpm(curves: list, scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None, label: str = "MPM") -> list:
     """Append an MPM curve (computed or reused) to a list of RFT/DRFT curves."""
     return curves + [(label, scenario, mpm_sweep(scenario, rpm, quick, parallel, runs))]
-
-
-from intrusim.figures_mpm_plates import PLATE_FIGURES  # noqa: E402  (it uses _save above)
-
-MPM_FIGURES = {"fig3ab": fig3ab, "fig3cd": fig3cd, "fig5c": fig5c, "fig5d": fig5d, **PLATE_FIGURES}

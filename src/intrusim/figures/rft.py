@@ -8,9 +8,8 @@ v / sqrt(g l), sinkage / l, omega / omega_0 with omega_0 = sqrt(g / l) and l the
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Sequence
 
 import matplotlib
 
@@ -20,8 +19,8 @@ import numpy as np  # noqa: E402
 
 from intrusim.analysis.plates import fit_static_plus_inertial  # noqa: E402
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
-from intrusim.figures_mpm import (  # noqa: E402
-    MPM_FIGURES,
+from intrusim.figures._output import csv_rows, write_curves  # noqa: E402
+from intrusim.figures.mpm import (  # noqa: E402
     MPM_RUNNER_RPM,
     MPM_RUNNER_RPM_QUICK,
     MPM_SMALL_WHEEL_RPM,
@@ -29,7 +28,6 @@ from intrusim.figures_mpm import (  # noqa: E402
     MPM_WHEEL_RPM_QUICK,
     with_mpm,
 )
-from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import (  # noqa: E402
     LocomotorScenario,
     drag_force_table,
@@ -64,80 +62,13 @@ def _curves(
         return [(label, s, sweep_omega(s, kind, rpm, lam=lam, scheduler_address=addr, progress=False)) for label, s, kind, lam in cases]
 
 
-def _write(
-    out: Path, name: str, curves: list[tuple[str, LocomotorScenario, SweepResult]], title: str
-) -> list[Path]:
-    out.mkdir(parents=True, exist_ok=True)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.6))
-    rows: list[dict[str, Any]] = []
-    n_mpm = 0
-    for label, s, res in curves:
-        w = res.omega_rpm * RPM / s.omega_0
-        v = res.column("velocity") / s.velocity_scale
-        h = res.column("sinkage") / s.length_scale
-        style: dict[str, Any] = dict(marker="o", ms=3)
-        if label.startswith("MPM"):  # dashed, open markers: black circles, then grey squares, black triangles, grey diamonds
-            style = dict(color=("k", "0.5")[n_mpm % 2], ls="--", marker="os^D"[n_mpm % 4], ms=5, mfc="w")
-            n_mpm += 1
-        a1.plot(w, v, label=label, **style)
-        a2.plot(w, h, label=label, **style)
-        for r, wi, vi, hi in zip(res.records, w, v, h):
-            rows.append({
-                "curve": label, "scenario": s.name, "model": res.kind, "lambda": res.lam if res.lam is not None else s.force_model.lam,
-                "omega_rpm": r["omega_rpm"], "omega_over_omega0": wi, "v_over_sqrt_gl": vi, "sinkage_over_l": hi,
-                "velocity_m_s": r.get("velocity", np.nan), "sinkage_m": r.get("sinkage", np.nan), "slip": r.get("slip", np.nan),
-                "length_scale_m": s.length_scale, "error": r.get("error", ""),
-            })  # fmt: skip
-    a1.set(xlabel=r"$\omega/\omega_0$", ylabel=r"$v/\sqrt{g\ell}$")
-    a2.set(xlabel=r"$\omega/\omega_0$", ylabel=r"sinkage$/\ell$")
-    a1.legend(fontsize=7)
-    fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
-    png, csv_path = out / f"{name}.png", out / f"{name}.csv"
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
-    _csv(csv_path, rows)
-    paths = [png, csv_path]
-    agreement = _agreement_rows(curves)
-    if agreement:
-        paths.append(out / f"{name}_vs_mpm.csv")
-        _csv(paths[-1], agreement)
-    return paths
-
-
-def _agreement_rows(curves: list[tuple[str, LocomotorScenario, SweepResult]]) -> list[dict[str, Any]]:
-    """Relative difference of every model curve from the MPM curve of the same scenario, at the MPM omegas."""
-    from intrusim.analysis.compare import relative_difference
-
-    rows: list[dict[str, Any]] = []
-    refs = [(s.name, res) for label, s, res in curves if label.startswith("MPM")]
-    for name, ref in refs:
-        for label, s, res in curves:
-            if label.startswith("MPM") or s.name != name:
-                continue
-            dv = relative_difference(res.omega_rpm, res.column("velocity"), ref.omega_rpm, ref.column("velocity"))
-            ds = relative_difference(res.omega_rpm, res.column("sinkage"), ref.omega_rpm, ref.column("sinkage"))
-            for w, v_ref, s_ref, e_v, e_s in zip(ref.omega_rpm, ref.column("velocity"), ref.column("sinkage"), dv, ds):
-                rows.append({"curve": label, "scenario": name, "omega_rpm": w, "omega_over_omega0": w * RPM / s.omega_0,
-                             "velocity_mpm_m_s": v_ref, "sinkage_mpm_m": s_ref,
-                             "rel_diff_velocity": e_v, "rel_diff_sinkage": e_s})  # fmt: skip
-    return rows
-
-
-def _csv(path: Path, rows: list[dict[str, Any]]) -> None:
-    with path.open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-
-
 def fig4b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
     """Fig 4B: wheel, RFT + inertial correction only, lambda in {0, 1, 25, 50, 100}."""
     s = _quick(grousered_wheel_scenario(), quick)
     lams = (0.0, 25.0, 100.0) if quick else (0.0, 1.0, 25.0, 50.0, 100.0)
     cases = [(f"lambda={lam:g}", s, "drft-inertial", lam) for lam in lams]
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
-    return _write(out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)")
+    return write_curves(out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)")
 
 
 def fig5ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
@@ -154,7 +85,7 @@ def fig5ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     curves = _curves(cases, rpm, parallel)
     if mpm:
         curves = with_mpm(curves, s, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs)
-    return _write(out, "fig5ab", curves, "Fig 5A-B: grousered wheel (Table S1)")
+    return write_curves(out, "fig5ab", curves, "Fig 5A-B: grousered wheel (Table S1)")
 
 
 def fig7bc(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
@@ -165,7 +96,7 @@ def fig7bc(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     curves = _curves(cases, rpm, parallel)
     if mpm:
         curves = with_mpm(curves, s, MPM_RUNNER_RPM_QUICK if quick else MPM_RUNNER_RPM, quick, parallel, runs)
-    return _write(out, "fig7bc", curves, "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
+    return write_curves(out, "fig7bc", curves, "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
 
 
 def figs1(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
@@ -177,7 +108,7 @@ def figs1(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     if mpm:
         curves = with_mpm(curves, big, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs, "MPM wheel D=212 mm")
         curves = with_mpm(curves, small, MPM_WHEEL_RPM_QUICK if quick else MPM_SMALL_WHEEL_RPM, quick, parallel, runs, "MPM small wheel D=106 mm")
-    return _write(out, "figs1", curves, "Fig S1: DRFT, two wheel sizes")
+    return write_curves(out, "figs1", curves, "Fig S1: DRFT, two wheel sizes")
 
 
 def fig6a(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
@@ -207,10 +138,5 @@ def fig6a(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     png, csv_path = out / "fig6a.png", out / "fig6a.csv"
     fig.savefig(png, dpi=120)
     plt.close(fig)
-    _csv(csv_path, rows)
+    csv_rows(csv_path, rows)
     return [png, csv_path]
-
-
-FIGURES: dict[str, Callable[..., list[Path]]] = {
-    "fig4b": fig4b, "fig5ab": fig5ab, "fig7bc": fig7bc, "figs1": figs1, "fig6a": fig6a, **MPM_FIGURES,
-}  # fmt: skip

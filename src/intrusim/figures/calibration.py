@@ -6,7 +6,7 @@ MPM points, DRFT before calibration (the paper's values) and DRFT with the calib
 for the calibrated scenario and for each transfer check (another scenario with the same
 calibrated parameters and no refitting). Files, for ``name``:
 
-* ``name.png`` and ``name.csv`` (every plotted point), written by :func:`intrusim.figures._write`;
+* ``name.png`` and ``name.csv`` (every plotted point), written by :func:`intrusim.figures._output.write_curves`;
 * ``name_vs_mpm.csv``: relative difference of each DRFT curve from MPM at the MPM omegas;
 * ``name.json``: the fitted values, the fit's per-omega errors, the errors before calibration
   (the paper's values unless the start was changed), the transfer checks, psi fitted to the
@@ -26,7 +26,7 @@ from intrusim.analysis.calibration import (
     RPM, CalibrationResult, Comparison, comparison, drft_steady_states, fit_psi_affine, fit_psi_linear, with_parameters,
 )  # fmt: skip
 from intrusim.analysis.sweep import SweepResult
-from intrusim.figures import _write
+from intrusim.figures._output import write_curves
 from intrusim.mpm.io import atomic_write_bytes
 from intrusim.scenarios import LocomotorScenario
 
@@ -112,7 +112,7 @@ def write_calibration(
     report.update(meta or {})
     title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
              f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip
-    paths = _write(out, name, curves, title)
+    paths = write_curves(out, name, curves, title)
     paths.append(out / f"{name}.json")
     atomic_write_bytes(paths[-1], json.dumps(report, indent=1).encode())
     return paths, check_cmps
