@@ -11,8 +11,9 @@ fallback for force models without a compiled form), step for step:
 * the same divergence checks (non-finite state, max_speed, max_depth).
 
 The force is that of the compiled RFT/DRFT kernel ``forces._wrench_kernel``, with the
-free-surface parameters (mode, dh, forward sign) computed here exactly as
-``WheelRearHalf.kernel_params`` does for the paper's psi (identity). Within a step it is evaluated
+free-surface parameters (mode, dh, forward sign) of ``_traction.surface_params`` (the same numbers
+as ``WheelRearHalf.kernel_params`` for the identity or an affine psi); both evaluate each element
+with the one compiled element law, ``_traction.element_force``. Within a step it is evaluated
 on elements rotated once per step (``_step_force``, see below), bit for bit the same numbers. Errors come back as status
 codes and numbers; ``bodies.simulate`` turns them into the same IntegratorError messages as the
 Python loop.
@@ -25,6 +26,7 @@ import math
 import numba
 import numpy as np
 
+from intrusim._traction import element_force, fit_rows, surface_params
 from intrusim.forces import CHUNK, _alpha_consts, _pseudo_angle, _wrench_kernel
 from intrusim.laws.bulldozing import bulldozing_wrench
 from intrusim.laws.drft import MID_ANGLE_TIE
@@ -57,26 +59,12 @@ def _angle_at(w: float, ramp: float, t: float) -> float:
 
 
 @numba.njit(cache=True)
-def _surface_params(fs_kind, fs_r, fs_g, vx, om):
-    """(mode, dh, forward) of WheelRearHalf.kernel_params with psi = identity: dh = r (r w^2 / g)."""
-    mode, dh, fwd = 0, 0.0, 1.0
-    if fs_kind >= 1:
-        mode = fs_kind
-        dh = fs_r * (fs_r * om * om / fs_g)
-        if om != 0.0:  # travel_sign(omega, vx)
-            fwd = -1.0 if om > 0.0 else 1.0
-        else:
-            fwd = -1.0 if vx < 0.0 else 1.0
-    return mode, dh, fwd
-
-
-@numba.njit(cache=True)
 def _force(
-    mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g,
+    mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g, fs_slope, fs_offset,
     x, z, th, vx, vz, om,
 ):  # fmt: skip
     """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
-    mode, dh, fwd = _surface_params(fs_kind, fs_r, fs_g, vx, om)
+    mode, dh, fwd = surface_params(fs_kind, fs_r, fs_g, fs_slope, fs_offset, vx, om)
     return _wrench_kernel(
         mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd
     )
@@ -178,8 +166,7 @@ def _element_forces(geo, n_g, out, z, vx, vz, om, surface_z, k, alpha_scale, lam
     the expression of forces._wrench_kernel, any other exactly 0.
     """
     rx_, rz_, nx_, nz_, c2b_, s2b_, p_, da_ = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
-    k00, k01, k02, k03, k04, k05, k06, k07, k08 = k[0, 0], k[0, 1], k[0, 2], k[0, 3], k[0, 4], k[0, 5], k[0, 6], k[0, 7], k[0, 8]  # fmt: skip
-    k10, k11, k12, k13, k14, k15, k16, k17, k18 = k[1, 0], k[1, 1], k[1, 2], k[1, 3], k[1, 4], k[1, 5], k[1, 6], k[1, 7], k[1, 8]  # fmt: skip
+    kz, kx = fit_rows(k)
     ox, oz, om_ = out[0], out[1], out[2]
     for q in range(n_g):
         rx, rz, nx, nz = rx_[q], rz_[q], nx_[q], nz_[q]
@@ -188,19 +175,7 @@ def _element_forces(geo, n_g, out, z, vx, vz, om, surface_z, k, alpha_scale, lam
         vn = nx * ux + nz * uz
         d0 = z + rz - surface_z
         depth = d0 + dh if p_[q] < p_mid else d0  # the lowered rear surface (p_mid = -inf: none)
-        speed = np.sqrt(ux * ux + uz * uz)
-        sg = -uz / speed
-        cg = abs(ux) / speed
-        c2b = c2b_[q]
-        s2 = -s2b_[q] if ux > 0.0 else s2b_[q]  # mirrored x -> -x into the fitted range when ux > 0
-        az = (c2b * (k00 + k01 * cg + k02 * sg) + (k03 + k04 * cg + k05 * sg)
-              + s2 * (k06 + k07 * cg + k08 * sg))  # fmt: skip
-        ax = (c2b * (k10 + k11 * cg + k12 * sg) + (k13 + k14 * cg + k15 * sg)
-              + s2 * (k16 + k17 * cg + k18 * sg))  # fmt: skip
-        ax = -ax if ux > 0.0 else ax
-        dA = da_[q]
-        ex = (alpha_scale * ax * (-depth) - nx * lam_rho * vn * vn) * dA
-        ez = (alpha_scale * az * (-depth) - nz * lam_rho * vn * vn) * dA
+        ex, ez = element_force(nx, nz, c2b_[q], s2b_[q], ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, da_[q])
         on = (not (z + rz >= thr)) & (not (vn <= 0.0)) & (not (depth >= 0.0))  # the kernel's skips, NaN alike
         ex = ex if on else 0.0
         ez = ez if on else 0.0
@@ -238,8 +213,8 @@ def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rh
 @numba.njit(cache=True)
 def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
     """(geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack): the rotated elements of one step (_rotate_elements)."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
-    mode, dh, _ = _surface_params(fk, fr, fg, vx0, om)
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mode, dh, _ = surface_params(fk, fr, fg, fc, fo, vx0, om)
     thr = _contact_threshold(sz, mode, dh)
     n_g, n_l = _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0, vz0, om, v_slack, geo, lead)
     return geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack
@@ -249,12 +224,12 @@ def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
 def _step_force(spec, frame, work, k, z, th, vx, vz, om):
     """One force evaluation of a step: from its rotated elements, or from scratch below z_low / on a turned travel sign;
     plus the body's bulldozing resistance (laws.bulldozing, 0 unless the model has one)."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
-    mode, dh, fwd = _surface_params(fk, fr, fg, vx, om)
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     if z >= frame[4] and fwd == frame[5]:
         fx, fz, m = _force_rotated(frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh))
     else:
-        fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, 0.0, z, th, vx, vz, om)  # x: unused
+        fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om)  # x: unused
     if bs > 0.0:
         bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
         fx, m = fx + bx, m + bm
@@ -273,9 +248,9 @@ def _implicit_step(
     _rotate_elements and _element_forces,
     ``k``: _alpha_consts of the fit.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
     # theta and omega are fixed in the step: rotate the elements that can touch once
-    _, _, fwd = _surface_params(fk, fr, fg, vx0, om1)
+    _, _, fwd = surface_params(fk, fr, fg, fc, fo, vx0, om1)
     frame = _rotated_frame(spec, th1, z0 + dt * (vz0 - v_slack), fwd, vx0, vz0, om1, v_slack, geo, lead)
     vx, vz = vx0, vz0
     h = fd_step
@@ -347,11 +322,11 @@ def simulate_implicit(
 
     Returns (status, step index); on failure ``info`` holds the numbers of the message.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
     om = _omega_at(w_target, ramp, t_start)
     angle0 = _angle_at(w_target, ramp, t_start)
     th_base = th0 - angle0
-    fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, x, z, th0, vx, vz, om)
+    fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, x, z, th0, vx, vz, om)
     if bs > 0.0:
         bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
         fx, m = fx + bx, m + bm

@@ -1,4 +1,4 @@
-"""Rigid-body locomotion dynamics: a driven body free to translate in x and z (SPEC section 4).
+"""Rigid-body locomotion dynamics: a driven body free to translate in x and z .
 
 The body turns at a PRESCRIBED angular velocity omega(t) (ramped linearly from rest to the
 target over ``ramp_time``), and its centre moves under
@@ -25,7 +25,11 @@ reference (and to show what instability looks like).
 The implicit scheme runs in a compiled (Numba) step loop (``intrusim._implicit_jit``) when the
 force model offers a compiled form (``compiled_spec()``: the RFT/DRFT models); the Python loop
 below is the reference and the fallback (``IntegratorSettings(compiled=False)``). Both take the
-same steps and raise the same errors; they agree to rounding.
+same steps and raise the same errors; they agree to rounding. Why two: Numba compiles only a
+force model it can see whole (the RFT/DRFT kernel with a flat or affine-psi free surface), while
+the integrator also drives any Python force model (``wrench_tuple`` or ``wrench``: a user-defined
+free-surface law, a measured force table); the Python loop serves those and is the oracle the
+compiled loop is tested against. Both use the same element law (``intrusim._traction``).
 
 Failures (non-finite state, runaway speed or depth, Newton not converging) raise
 :class:`IntegratorError` with the time, the step and the advice to reduce ``dt``.

@@ -23,6 +23,7 @@ import numba
 import numpy as np
 
 from intrusim._checks import InputError, finite, non_negative
+from intrusim._traction import element_force, fit_rows
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.drft import (
@@ -199,7 +200,7 @@ def _wrench_kernel(
         if phi_mid > -np.pi:
             p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
     # pass 2: forces of the candidates, in element order
-    k = _alpha_consts(coef)
+    kz, kx = fit_rows(_alpha_consts(coef))
     fx = 0.0
     fz = 0.0
     mom = 0.0
@@ -219,23 +220,7 @@ def _wrench_kernel(
             depth += dh
         if depth >= 0.0:
             continue
-        speed = np.sqrt(ux * ux + uz * uz)
-        c2b = nz * nz - nx * nx
-        s2b = 2.0 * nx * nz
-        sg = -uz / speed
-        # _alpha_unit(c2b, s2b, -ux / speed, sg), or mirrored x -> -x into the fitted range
-        # (ux > 0: s2b -> -s2b, alpha_x -> -alpha_x), with the constants of _alpha_consts
-        cg = abs(ux) / speed
-        s2 = -s2b if ux > 0.0 else s2b
-        az = (c2b * (k[0, 0] + k[0, 1] * cg + k[0, 2] * sg) + (k[0, 3] + k[0, 4] * cg + k[0, 5] * sg)
-              + s2 * (k[0, 6] + k[0, 7] * cg + k[0, 8] * sg))  # fmt: skip
-        ax = (c2b * (k[1, 0] + k[1, 1] * cg + k[1, 2] * sg) + (k[1, 3] + k[1, 4] * cg + k[1, 5] * sg)
-              + s2 * (k[1, 6] + k[1, 7] * cg + k[1, 8] * sg))  # fmt: skip
-        if ux > 0.0:
-            ax = -ax
-        dA = area[i]
-        ex = (alpha_scale * ax * (-depth) - nx * lam_rho * vn * vn) * dA
-        ez = (alpha_scale * az * (-depth) - nz * lam_rho * vn * vn) * dA
+        ex, ez = element_force(nx, nz, nz * nz - nx * nx, 2.0 * nx * nz, ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, area[i])
         fx += ex
         fz += ez
         mom += rx * ez - rz * ex
@@ -312,26 +297,26 @@ class ResistiveForceModel:
         """Arguments of the compiled step loop (``intrusim._implicit_jit``), or None.
 
         (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
-        fs_gravity, bulldozing, radius): fs_kind 0 = flat free surface, 1 / 2 = :class:`WheelRearHalf` with the
-        "submerged" / "effective" split and the paper's psi (identity), whose drop
-        dh = r (r omega^2 / g) the loop evaluates itself. A linear psi(x) = c x is compiled as
-        the identity with g / c in place of g (dh = c r^2 omega^2 / g, equal to rounding). None
-        for a free-surface model without a compiled form (an affine psi with an offset, a
-        user-defined one): the integrator then uses its Python loop and ``wrench_tuple``.
+        fs_gravity, fs_slope, fs_offset, bulldozing, radius): fs_kind 0 = flat free surface, 1 / 2 =
+        :class:`WheelRearHalf` with the "submerged" / "effective" split and psi(x) = offset + slope x
+        (the paper's identity, or an :class:`AffinePsi`), whose drop dh = r psi(r omega^2 / g) the
+        loop evaluates itself (``_traction.rear_surface_drop``, the same arithmetic as
+        ``laws.drft.structural_depth_shift``). None for a free-surface model without a compiled
+        form (a user-defined psi or model): the integrator then uses its Python loop and ``wrench_tuple``.
         """
         fs = self.free_surface
         if type(fs) is FlatFreeSurface:
-            kind, r, g = 0, 1.0, 1.0
-        elif type(fs) is WheelRearHalf and (fs.psi is identity_psi or _is_linear(fs.psi)):
+            kind, r, g, slope, offset = 0, 1.0, 1.0, 1.0, 0.0
+        elif type(fs) is WheelRearHalf and (fs.psi is identity_psi or type(fs.psi) is AffinePsi):
             kind, r, g = (1 if fs.split == "submerged" else 2), float(fs.radius), float(fs.gravity)
-            if fs.psi is not identity_psi:
-                g = g / fs.psi.slope if fs.psi.slope > 0.0 else math.inf  # type: ignore[attr-defined]
+            slope, offset = (1.0, 0.0) if fs.psi is identity_psi else (float(fs.psi.slope), float(fs.psi.offset))  # type: ignore[attr-defined]
         else:
             return None
         return (
             self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), self._coef,
-            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g, float(self.bulldozing), float(self.radius),
-        )  # fmt: skip
+            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g, slope, offset, float(self.bulldozing),
+            float(self.radius),
+        )
 
     def element_tractions(self, state: BodyState) -> tuple[np.ndarray, np.ndarray]:
         """World positions (N, 2) and tractions t (N, 2, N/m^2) of every element (NumPy path)."""
@@ -354,11 +339,6 @@ class ResistiveForceModel:
             bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, state.z, state.vx)
             fx, moment = fx + bx, moment + bm
         return Wrench(fx, float(f[:, 1].sum()), moment)
-
-
-def _is_linear(psi: object) -> bool:
-    """psi(x) = c x (an :class:`AffinePsi` without offset)."""
-    return type(psi) is AffinePsi and psi.offset == 0.0
 
 
 def make_force_model(

@@ -58,12 +58,13 @@ def test_psi_settings_reach_the_force_model_and_the_linear_law_is_compiled():
     assert lin.free_surface.psi == AffinePsi(0.5, 0.0) and lin.compiled_spec() is not None
     assert lin.free_surface.drop(6.0) == pytest.approx(0.5 * 0.106**2 * 36 / 9.8)
     aff = with_parameters(s, {"psi": 0.5, "psi_offset": 0.1}).build_model("drft")
-    assert aff.compiled_spec() is None  # an offset runs in the Python loop
+    assert aff.compiled_spec() is not None  # an offset is compiled too (_traction.rear_surface_drop)
     assert aff.free_surface.drop(6.0) == pytest.approx(0.106 * (0.1 + 0.5 * 0.106 * 36 / 9.8))
-    # the compiled linear law (g / c in place of g) gives the Python loop's steady state
-    sc = with_parameters(s, {"psi": 0.5})
-    fast, ref = run_steady(sc, "drft", 60.0), run_steady(sc, "drft", 60.0, compiled=False)
-    assert fast.velocity == pytest.approx(ref.velocity, rel=1e-9) and fast.sinkage == pytest.approx(ref.sinkage, rel=1e-9)
+    # the compiled linear and affine laws give the Python loop's steady state
+    for params in ({"psi": 0.5}, {"psi": 0.5, "psi_offset": 0.1}):
+        sc = with_parameters(s, params)
+        fast, ref = run_steady(sc, "drft", 60.0), run_steady(sc, "drft", 60.0, compiled=False)
+        assert fast.velocity == pytest.approx(ref.velocity, rel=1e-9) and fast.sinkage == pytest.approx(ref.sinkage, rel=1e-9)
 
 
 def test_with_parameters_validates_and_copies():

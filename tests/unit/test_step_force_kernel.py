@@ -33,7 +33,7 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
     sc = get_scenario(name)
     tr = run_steady(sc, kind, rpm, lam).trajectory
     spec = _model(sc, kind, lam, structural).compiled_spec()
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, _, _ = spec  # no bulldozing term here
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, _, _ = spec  # no bulldozing term here
     n_el = mid.shape[0]
     geo, lead, work = np.empty((jit.GEO_ROWS, n_el)), np.empty((jit.GEO_ROWS, n_el)), np.empty((3, n_el))
     k = jit._alpha_consts(coef)
@@ -44,15 +44,15 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
         th, om = tr.theta[i], tr.omega[i]
         z0, vx0, vz0 = tr.z[i - 1], tr.vx[i - 1], tr.vz[i - 1]
         for om_i in (om, 0.0):  # omega = 0: the travel sign follows vx
-            _, _, fwd = jit._surface_params(fk, fr, fg, vx0, om_i)
+            _, _, fwd = jit.surface_params(fk, fr, fg, fc, fo, vx0, om_i)
             frame = jit._rotated_frame(spec, th, z0 + dt * (vz0 - slack), fwd, vx0, vz0, om_i, slack, geo, lead)
             for scale in (0.3 * slack, 3.0 * slack, 0.5):  # inside the slack, outside it, far outside
                 vx, vz = vx0 + scale * rng.normal(), vz0 + scale * rng.normal()
                 z = z0 + dt * vz
                 got = jit._step_force(spec, frame, work, k, z, th, vx, vz, om_i)
-                ref = jit._force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, 0.0, z, th, vx, vz, om_i)
+                ref = jit._force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om_i)
                 assert got == ref
-                if z < frame[4] or jit._surface_params(fk, fr, fg, vx, om_i)[2] != fwd:
+                if z < frame[4] or jit.surface_params(fk, fr, fg, fc, fo, vx, om_i)[2] != fwd:
                     used["kernel"] += 1
                 elif abs(vx - vx0) <= slack and abs(vz - vz0) <= slack:
                     used["lead"] += 1
