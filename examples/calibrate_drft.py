@@ -27,7 +27,9 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--max-nfev", type=int, default=60, help="most parameter sets tried")
     args = ap.parse_args(argv)
     reference = load_reference(args.mpm, "grousered_wheel", settled_only=True)
-    result = calibrate(with_mpm_push(grousered_wheel_scenario()), reference, args.params.split(","), max_nfev=args.max_nfev)
+    result = calibrate(
+        with_mpm_push(grousered_wheel_scenario()), reference, args.params.split(","), max_nfev=args.max_nfev
+    )
     print("fitted:", {k: round(v, 4) for k, v in result.values.items()})
     print(f"largest |relative error| over {len(reference.omega_rpm)} omegas: {result.max_abs_rel_error:.1%}")
     return result.summary()

@@ -24,8 +24,10 @@ def main(argv: list[str] | None = None) -> dict:
     args = ap.parse_args(argv)
     settings = quick_settings("wheel").validated_copy(t_max=args.t_max, cpu_threads=args.threads)
     st = run_mpm_steady(grousered_wheel_scenario(), settings, args.omega_rpm, out_dir=args.out)
-    print(f"omega {args.omega_rpm:g} RPM: v = {st.velocity * 1e3:.1f} mm/s, sinkage = {st.sinkage * 1e3:.1f} mm, "
-          f"slip = {st.slip:.2f} (window {st.window[0]:.2f}-{st.window[1]:.2f} s, {st.steps} steps, {st.wall_time:.1f} s)")
+    print(
+        f"omega {args.omega_rpm:g} RPM: v = {st.velocity * 1e3:.1f} mm/s, sinkage = {st.sinkage * 1e3:.1f} mm, "
+        f"slip = {st.slip:.2f} (window {st.window[0]:.2f}-{st.window[1]:.2f} s, {st.steps} steps, {st.wall_time:.1f} s)"
+    )
     return st.summary()
 
 

@@ -47,9 +47,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from helpers.histories import read_windows, wheel_state, window_mean  # noqa: E402
 
 from intrusim._checks import InputError, positive  # noqa: E402
-from helpers.histories import read_windows, wheel_state, window_mean  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 

@@ -263,7 +263,7 @@ def table(args: argparse.Namespace) -> None:
             w.writeheader()
             w.writerows(windows)
         print(f"wrote {path}: {len(windows)} windows of {args.after_switch:g} s after the switch")
-    print(f"| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
+    print("| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {'smooth rim' if r.get('smooth') else 'grousered'} | {1e3 * r['z']:.1f} | {r['vx']:.4f} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['fx']:+.2f} | "

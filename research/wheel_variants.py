@@ -43,8 +43,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from pydantic import ValidationError  # noqa: E402
 
 from intrusim.analysis.calibration import RPM, with_mpm_push, with_parameters  # noqa: E402
-from intrusim.params import GRAVITY  # noqa: E402
 from intrusim.analysis.steady import run_steady, window_drift  # noqa: E402
+from intrusim.params import GRAVITY  # noqa: E402
 from intrusim.scenarios import grousered_wheel_scenario  # noqa: E402
 from intrusim.scenarios.locomotor import with_lug_count, with_mass_z  # noqa: E402
 

@@ -34,10 +34,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from helpers.grain_length import XiLengthLaw, d_over_r, fit_xi_length_law  # noqa: E402
 
 from intrusim._checks import InputError  # noqa: E402
 from intrusim.analysis.calibration import calibrate, compare, load_reference, with_mpm_push, with_parameters  # noqa: E402
-from helpers.grain_length import XiLengthLaw, d_over_r, fit_xi_length_law  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.params import GRAVITY, RPM  # noqa: E402
 from intrusim.scenarios import load_scenario  # noqa: E402

@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 import pytest
-
 from helpers.grain_length import XiLengthLaw, d_over_r, fit_xi_length_law
 
 

@@ -3,9 +3,9 @@
 import math
 
 import pytest
+from helpers.histories import read_steady, read_windows, slip, window_mean
 
 from intrusim._checks import InputError
-from helpers.histories import read_steady, read_windows, slip, window_mean
 
 WINDOWS = """run,label,t_start,t_end,velocity,sinkage
 a,fast,0.5,1.0,0.30,0.010

@@ -106,7 +106,15 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from intrusim.demo import run_demo
     from intrusim.figures import FIGURES
     from intrusim.forces import ForceModel, ResistiveForceModel, make_force_model
-    from intrusim.geometry import Shape, SurfaceElements, circle, four_flap_runner, grousered_wheel, plate, polygon_shape
+    from intrusim.geometry import (
+        Shape,
+        SurfaceElements,
+        circle,
+        four_flap_runner,
+        grousered_wheel,
+        plate,
+        polygon_shape,
+    )
     from intrusim.kinematics import BodyState, Wrench
     from intrusim.mpm.config import MPMConfig
     from intrusim.mpm.solver import Solver

@@ -86,7 +86,9 @@ def run_demo(
         settings = quick_settings("wheel").validated_copy(t_max=mpm_t_max, cpu_threads=threads)
         st = run_mpm_steady(scenario, settings, mpm_omega_rpm)
         rows.append(_row("mpm", mpm_omega_rpm, st.velocity, st.sinkage, st.slip, st.wall_time))
-        notes.append(f"MPM: {settings.h * 1e3:.0f} mm cells, {mpm_t_max:g} s (coarse; docs/results.md for converged runs)")
+        notes.append(
+            f"MPM: {settings.h * 1e3:.0f} mm cells, {mpm_t_max:g} s (coarse; docs/results.md for converged runs)"
+        )
     result = DemoResult(rows, notes=notes)
     if out_dir is not None:
         out = Path(out_dir)
@@ -129,7 +131,9 @@ def _plot(path: Path, rows: list[dict]) -> Path:
         if not sel:
             continue
         w = [r["omega_rpm"] for r in sel]
-        ax_v.plot(w, [1e3 * r["velocity_m_s"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5)
+        ax_v.plot(
+            w, [1e3 * r["velocity_m_s"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5
+        )
         ax_s.plot(w, [r["sinkage_mm"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5)
     ax_v.set(xlabel="omega (RPM)", ylabel="forward speed (mm/s)", title="Table S1 wheel: speed")
     ax_s.set(xlabel="omega (RPM)", ylabel="sinkage (mm)", title="sinkage")

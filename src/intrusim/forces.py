@@ -15,7 +15,6 @@ it and to draw traction arrows.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable, Literal, Protocol
 
@@ -26,10 +25,16 @@ from intrusim._checks import InputError, finite, non_negative
 from intrusim._traction import element_force, fit_rows
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
-from intrusim.laws.drft import (
-    MID_ANGLE_TIE, AffinePsi, FlatFreeSurface, FreeSurfaceModel, WheelRearHalf, identity_psi, inertial_traction,
-)  # fmt: skip
 from intrusim.laws.bulldozing import bulldozing_scale, bulldozing_wrench
+from intrusim.laws.drft import (
+    MID_ANGLE_TIE,
+    AffinePsi,
+    FlatFreeSurface,
+    FreeSurfaceModel,
+    WheelRearHalf,
+    identity_psi,
+    inertial_traction,
+)  # fmt: skip
 from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
 from intrusim.params import GRAVITY
 

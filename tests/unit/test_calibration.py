@@ -9,8 +9,17 @@ import pytest
 from typer.testing import CliRunner
 
 from intrusim.analysis.calibration import (
-    FAILED_RESIDUAL, calibrate, compare, fit_psi_affine, fit_psi_linear, leave_one_out, load_reference, parameter_values,
-    drft_steady_states, with_mpm_push, with_parameters,
+    FAILED_RESIDUAL,
+    calibrate,
+    compare,
+    drft_steady_states,
+    fit_psi_affine,
+    fit_psi_linear,
+    leave_one_out,
+    load_reference,
+    parameter_values,
+    with_mpm_push,
+    with_parameters,
 )  # fmt: skip
 from intrusim.analysis.steady import run_steady
 from intrusim.analysis.sweep import SweepResult

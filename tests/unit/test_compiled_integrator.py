@@ -8,7 +8,6 @@ import pytest
 from intrusim.analysis.steady import run_steady
 from intrusim.bodies import Drive, IntegratorError, IntegratorSettings, RigidBody, simulate
 from intrusim.forces import ResistiveForceModel, make_force_model
-from intrusim.kinematics import BodyState
 from intrusim.laws.drft import WheelRearHalf
 from intrusim.scenarios import get_scenario
 

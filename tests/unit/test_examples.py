@@ -65,9 +65,30 @@ def test_mpm_rft_map(tmp_path):
     import subprocess
     import sys
 
-    args = ["run", "--out", str(tmp_path), "--betas", "0", "--gammas", "-90", "--cell-mm", "10",
-            "--thickness-mm", "20", "--plate-mm", "20", "--bed-mm", "150", "--domain-mm", "300x200", "--workers", "1"]
-    res = subprocess.run([sys.executable, str(EXAMPLES / "mpm_rft_map.py"), *args], capture_output=True, text=True, timeout=300)
+    args = [
+        "run",
+        "--out",
+        str(tmp_path),
+        "--betas",
+        "0",
+        "--gammas",
+        "-90",
+        "--cell-mm",
+        "10",
+        "--thickness-mm",
+        "20",
+        "--plate-mm",
+        "20",
+        "--bed-mm",
+        "150",
+        "--domain-mm",
+        "300x200",
+        "--workers",
+        "1",
+    ]
+    res = subprocess.run(
+        [sys.executable, str(EXAMPLES / "mpm_rft_map.py"), *args], capture_output=True, text=True, timeout=300
+    )
     assert res.returncode == 0, res.stdout + res.stderr
     header, row = (tmp_path / "alpha_map.csv").read_text().splitlines()
     alpha_z = float(row.split(",")[header.split(",").index("alpha_z")])

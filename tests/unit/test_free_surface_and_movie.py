@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
+from intrusim._checks import InputError
 from intrusim.analysis.free_surface import (
     polygon_signed_distance,
     rear_contact_drop,
     wake_drop,
 )
-from intrusim._checks import InputError
 from intrusim.geometry import circle
 
 

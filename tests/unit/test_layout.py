@@ -28,7 +28,9 @@ def _imports(path: Path, modules: set[str]) -> set[str]:
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
-                base = ".".join(package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else []))
+                base = ".".join(
+                    package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else [])
+                )
             targets = [f"{base}.{a.name}" for a in node.names] + [base]
         else:
             continue
@@ -55,7 +57,11 @@ def test_the_package_does_not_import_research():
 
 
 def test_no_import_cycles_outside_mpm():
-    graph = {m: {t for t in ts if not t.startswith("intrusim.mpm")} for m, ts in _graph().items() if not m.startswith("intrusim.mpm")}
+    graph = {
+        m: {t for t in ts if not t.startswith("intrusim.mpm")}
+        for m, ts in _graph().items()
+        if not m.startswith("intrusim.mpm")
+    }
     # a package's __init__ importing its own submodules is how a package exports names, not a cycle
     edges = {m: {t for t in ts if not (m.endswith("__init__") or t.startswith(m + "."))} for m, ts in graph.items()}
     seen: dict[str, int] = {}  # 1: on the current path, 2: done
@@ -64,7 +70,9 @@ def test_no_import_cycles_outside_mpm():
         seen[m] = 1
         for t in sorted(edges.get(m, ())):
             if seen.get(t) == 1:
-                pytest.fail("import cycle: " + " -> ".join(path[path.index(t):] + [m, t]) if t in path else f"{m} -> {t}")
+                pytest.fail(
+                    "import cycle: " + " -> ".join(path[path.index(t) :] + [m, t]) if t in path else f"{m} -> {t}"
+                )
             if t not in seen:
                 visit(t, path + [m])
         seen[m] = 2

@@ -5,7 +5,12 @@ import pytest
 
 from intrusim._checks import InputError
 from intrusim.analysis.steady import (
-    NoContactError, interval_means, outline_sinkage, run_steady, steady_state, window_means,
+    NoContactError,
+    interval_means,
+    outline_sinkage,
+    run_steady,
+    steady_state,
+    window_means,
 )
 from intrusim.bodies import Drive, IntegratorSettings, RigidBody, simulate
 from intrusim.geometry import circle, polygon_shape

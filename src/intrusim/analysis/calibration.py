@@ -32,10 +32,9 @@ from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from intrusim.analysis.sweep import SweepResult, dask_map, sweep_omega
-from intrusim.params import GRAVITY, RPM
+from intrusim.params import GRAVITY
 from intrusim.scenarios.base import ForceModelConfig
 from intrusim.scenarios.locomotor import LocomotorScenario
-
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,9 @@ def write_curves(
         v = res.column("velocity") / s.velocity_scale
         h = res.column("sinkage") / s.length_scale
         style: dict[str, Any] = dict(marker="o", ms=3)
-        if label.startswith("MPM"):  # dashed, open markers: black circles, then grey squares, black triangles, grey diamonds
+        if label.startswith(
+            "MPM"
+        ):  # dashed, open markers: black circles, then grey squares, black triangles, grey diamonds
             style = dict(color=("k", "0.5")[n_mpm % 2], ls="--", marker="os^D"[n_mpm % 4], ms=5, mfc="w")
             n_mpm += 1
         a1.plot(w, v, label=label, **style)

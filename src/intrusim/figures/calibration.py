@@ -23,11 +23,18 @@ from typing import Any, Sequence
 import numpy as np
 
 from intrusim.analysis.calibration import (
-    RPM, CalibrationResult, Comparison, comparison, drft_steady_states, fit_psi_affine, fit_psi_linear, with_parameters,
-)  # fmt: skip
+    CalibrationResult,
+    Comparison,
+    comparison,
+    drft_steady_states,
+    fit_psi_affine,
+    fit_psi_linear,
+    with_parameters,
+)
 from intrusim.analysis.sweep import SweepResult
 from intrusim.figures._output import write_curves
 from intrusim.mpm.io import atomic_write_bytes
+from intrusim.params import RPM
 from intrusim.scenarios import LocomotorScenario
 
 CURVE_RPM = np.arange(10.0, 90.1, 5.0)  # the DRFT curves (the MPM omegas are added)

@@ -19,8 +19,8 @@ from intrusim._checks import InputError
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
 from intrusim.laws.drft import free_surface_law
-from intrusim.params import GRAVITY
 from intrusim.laws.rft import load_coefficients
+from intrusim.params import GRAVITY
 
 ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
 

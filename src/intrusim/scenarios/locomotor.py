@@ -35,7 +35,7 @@ from intrusim.bodies import Drive, RigidBody
 from intrusim.geometry import Shape, hub_with_lugs
 from intrusim.kinematics import BodyState
 from intrusim.params import table_s1
-from intrusim.scenarios.base import ALL_KINDS, Config, ForceModelConfig, ModelKindsMixin, RunConfig
+from intrusim.scenarios.base import ALL_KINDS, ForceModelConfig, ModelKindsMixin, RunConfig
 
 
 def _deep_merge(base: dict[str, Any], update: dict[str, Any]) -> dict[str, Any]:
