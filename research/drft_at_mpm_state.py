@@ -1,6 +1,6 @@
 """DRFT's force on the wheel along the MPM wheel's own steady motion: where the two disagree.
 
-The steady states of DRFT and MPM differ (docs/results.md, Fig 5A-B); this asks why, one
+The steady states of DRFT and MPM differ (research/notes/results_log.md, Fig 5A-B); this asks why, one
 force component at a time. Over the last --last seconds of each finished MPM run, every
 sample of the MPM trajectory (x, z, theta, vx, vz, omega) is given to the DRFT force models
 of the run's scenario (the free surface at the bed's undisturbed height), and the mean DRFT

@@ -2,7 +2,7 @@
 
 xi-DRFT (DRFT with the RFT stiffness scaled by xi = 1.94, fitted on the 30 and 90 RPM MPM wheels)
 misses the slow wheels: at 10 RPM v +18.9 %, sinkage -27 %. Held at one free state, the MPM
-wheel's lift grows with omega where DRFT's does not (docs/results.md, the held pairs). Let that
+wheel's lift grows with omega where DRFT's does not (research/notes/results_log.md, the held pairs). Let that
 growth be a stiffness that rises with the rate, xi(omega) = xi_ref (omega / omega_ref)^c: at a
 fixed state a power law in the rates scales every RFT stress by (omega_B / omega_A)^c, so each
 held pair measures

@@ -1,7 +1,7 @@
 """How much the measured rear free-surface drop dh (paper Fig 5C) depends on how it is measured.
 
 The paper's psi = identity (dh = r (r omega^2 / g)) is not reproduced by our MPM (psi ~ 0.4-0.5 x,
-docs/results.md). The paper does not give the pressure threshold or the contact band of its
+research/notes/results_log.md). The paper does not give the pressure threshold or the contact band of its
 measurement, so this script re-measures dh on the particle snapshots of finished wheel runs
 (``fields_*.npz`` in the run folders) with other choices, and fits psi(x) = c x for each:
 

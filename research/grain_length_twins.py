@@ -5,7 +5,7 @@ the same omega / omega_0) was run with the nonlocal law's grain diameter d = 3, 
 (d / r 0.057, 0.113, 0.226) and carried to the reference's 8.5 s (the twin's 6.01 s). This script
 reads each run's window means over one window of the twin's time, tabulates slip and sinkage / r
 against d / r, the change per doubling of d, and plots them with the reference (the large wheel,
-6 mm grains, d / r 0.057) for scale (docs/results.md, sessions 41-42):
+6 mm grains, d / r 0.057) for scale (research/notes/results_log.md):
 
     python research/grain_length_twins.py \\
         --run docs/figures/small_wheel_42rpm_twin_6s.csv "small wheel, 2.5 mm, 3 mm grains, half box" 3e-3 \\
@@ -19,7 +19,7 @@ its grain diameter (m); ``--reference`` the same for the large wheel at 30 RPM. 
 the reference's time (the twins' is sqrt(r_small / r_large) of it). Writes OUT.csv (one row per run),
 OUT.json (the rows and the change per doubling of d between neighbours) and OUT.png.
 
-The same question on the resolved grid (session 43): ``--fine CSV LABEL D`` (repeatable) adds large
+The same question on the resolved grid: ``--fine CSV LABEL D`` (repeatable) adds large
 wheels at 30 RPM on 2.5 mm cells (h / r 0.024 against the twins' 0.047), read over ``--fine-window``
 (their own time), and ``--small-pair CSV LABEL D RPM T0 T1`` (twice) the small wheel on 1.25 mm
 cells (h / r 0.024 too) at two omegas, each over its own window, interpolated linearly in omega to

@@ -6,7 +6,7 @@ length, the grain diameter d (6 mm: 0.11 r of the small wheel, 0.057 r of the la
 for the small wheel makes it the large wheel at 2.5 mm scaled by 1/2 in every length of the law
 and of the mesh. This script puts the two small-wheel runs (d = 6 and 3 mm, the same window) side
 by side with the large wheel's steady state at the same omega / omega_0 (linear in omega between
-two of its settled runs), and gives the verdict registered in docs/results.md (b119ed1):
+two of its settled runs), and gives the verdict registered in research/notes/results_log.md (b119ed1):
 
     python research/grain_size_pair.py \\
         --run docs/figures/small_wheel_60rpm_nonlocal_cells_3p5s.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s" 6e-3 \\

@@ -1,6 +1,6 @@
 """Go on with a coupled MPM run at finer cells, from the state it reached: start-up or resolution?
 
-A wheel run at 1.25 mm cells settles slower and deeper than at 2.5 mm (docs/results.md, "The
+A wheel run at 1.25 mm cells settles slower and deeper than at 2.5 mm (research/notes/results_log.md, "The
 band-0 wheel after it settles"). Either the finer grains push differently on the wheel at the
 same state, or the finer run started differently (the bulge it pushed up while sinking in) and
 the memory of the start lasts. This script takes a finished run's last checkpoint, splits every

@@ -7,7 +7,7 @@ travel, and for each faster speed the lambda of the excess over the slowest run,
 
     lambda = (F(v) - F(v_slow)) / (rho A (v^2 - v_slow^2)),   A = plate length x 1 m,
 
-window by window (docs/results.md, "Fig 6A: plate drag"). Each run is cached as JSON under --out.
+window by window (research/notes/results_log.md, "Fig 6A: plate drag"). Each run is cached as JSON under --out.
 
     python research/plate_drag_travel.py --band 1                      # ~3 min on 2 cores
     python research/plate_drag_travel.py --band 0 --youngs-modulus 4e6 # ~6 min

@@ -1,6 +1,6 @@
 """Velocity and sinkage against time of finished MPM locomotion runs, side by side.
 
-For a question like "does the small wheel dig in at finer cells too?" (docs/results.md, Fig S1):
+For a question like "does the small wheel dig in at finer cells too?" (research/notes/results_log.md, Fig S1):
 each run folder's time series is averaged over consecutive windows of --every seconds and
 written to OUT.csv (one row per run and window: mean v, mean sinkage of the true outline) and
 plotted in OUT.png (v and sinkage against time, one line per run).

@@ -5,8 +5,7 @@ with every length of the MPM halved too: cell size, grain diameter, box, bed and
 the same omega / omega_0 (omega_0 = sqrt(g / r)). Under Froude scaling time goes as sqrt(r / g),
 speed as sqrt(g r) and sinkage as r, so slip and sinkage / r must agree window by window once the
 twin's windows are the reference's scaled by sqrt(r_twin / r_reference) (0.3536 s for 0.5 s). This
-script pairs the windows, compares them and gives the verdict registered in docs/results.md
-(session 39):
+script pairs the windows, compares them and gives the verdict registered in research/notes/results_log.md:
 
     python research/similarity_twin.py \\
         --reference docs/figures/wheel_30rpm_nonlocal_treadmill.csv "5 mm, treadmill in 1 m" 30 \\
@@ -19,7 +18,7 @@ reference's window times sqrt(r_small / r_large)). ``--window`` is in the refere
 OUT.csv (each pair of windows: both runs' slip and sinkage / r), OUT.json (the window means, the
 differences and the verdict) and OUT.png (slip and sinkage / r against t / sqrt(r / g)).
 ``--similar`` and ``--not-similar`` take another registration's bands (slip, sinkage / r), as
-session 41's reading of the twins over the reference's 6.0-8.5 s: ``--similar 0.008 0.004
+the reading of the twins over the reference's 6.0-8.5 s: ``--similar 0.008 0.004
 --not-similar 0.015 0.008``.
 """
 
@@ -40,7 +39,7 @@ from intrusim._checks import InputError  # noqa: E402
 from intrusim.mpm.io import write_csv  # noqa: E402
 from intrusim.scenarios.locomotor import grousered_wheel_scenario, small_wheel_scenario  # noqa: E402
 
-# registered in session 39 over the reference's 3.5-4.5 s: similar if |d slip| <= 0.03 and
+# registered over the reference's 3.5-4.5 s: similar if |d slip| <= 0.03 and
 # |d sinkage / r| <= 0.015; not similar if either is off by more than 0.06 or 0.03; else in part
 SIMILAR = (0.03, 0.015)
 NOT_SIMILAR = (0.06, 0.03)
@@ -81,7 +80,7 @@ def pair_windows(reference: list[dict], twin: list[dict], time_ratio: float) -> 
 def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], window: tuple[float, float],
             similar: tuple[float, float] = SIMILAR, not_similar: tuple[float, float] = NOT_SIMILAR) -> tuple[list[dict], dict]:
     """Every pair of windows and the comparison over ``window`` (the reference's time, s), read
-    with the registered bands (slip, sinkage / r; default: session 39's)."""
+    with the registered bands (slip, sinkage / r; default: an earlier study's)."""
     check_bands(similar, not_similar)  # before any file is read
     big, small = grousered_wheel_scenario(), small_wheel_scenario()
     r_ref, r_twin, g = big.radius, small.radius, big.gravity
@@ -132,7 +131,7 @@ def main() -> None:
     ap.add_argument("--twin", nargs=3, required=True, metavar=("CSV", "LABEL", "RPM"))
     ap.add_argument("--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s")
     ap.add_argument("--similar", nargs=2, type=float, default=SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
-                    help="the registered bands within which the twin reads similar (default: session 39's 0.03 0.015)")
+                    help="the registered bands within which the twin reads similar (default: the 0.03 0.015)")
     ap.add_argument("--not-similar", nargs=2, type=float, default=NOT_SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
                     help="the registered bands past either of which it reads not similar (default: 0.06 0.03)")
     ap.add_argument("--out", required=True)

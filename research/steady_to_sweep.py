@@ -2,7 +2,7 @@
 
 ``intrusim calibrate --mpm`` and ``intrusim reproduce --mpm`` read sweep CSVs (one row per omega:
 omega_rpm, ok, velocity, sinkage, slip, drift, settled, surface_drop). The long runs of
-docs/results.md (the nonlocal-law wheels on the treadmill) are summarised per run in
+research/notes/results_log.md (the nonlocal-law wheels on the treadmill) are summarised per run in
 ``NAME_steady.csv`` files instead; this picks the rows whose label contains ``--label-contains``
 from any number of them and writes one sweep CSV, sorted by omega:
 

@@ -1,7 +1,7 @@
 """New wheels for DRFT to predict: the Table S1 wheel with another number of grousers, load or push.
 
 The bulldozing coefficient k_b was fitted on the 20-grouser wheel of 6.3 kg with the MPM runs' 4 N
-forward push (docs/results.md, "A body-level resistance: DRFT + bulldozing"). Here DRFT predicts,
+forward push (research/notes/results_log.md, "A body-level resistance: DRFT + bulldozing"). Here DRFT predicts,
 before any MPM run of them, wheels of the same hub and grouser size with N grousers (same
 inertias), another vertical mass m_z (weight m_z g; the horizontal inertia and the push kept), or
 another constant forward push (N; < 0 a drawbar load), at one omega; the MPM runs

@@ -1,6 +1,6 @@
 """DRFT's xi as a function of the grain length d / r, and its transfer to another wheel (an extension).
 
-The nonlocal-law MPM wheel's steady state depends on d / r (docs/results.md, "grain length"): on the
+The nonlocal-law MPM wheel's steady state depends on d / r (research/notes/results_log.md, "grain length"): on the
 resolved grid (2.5 mm cells) the large wheel with 12 mm grains and the half-size wheel with 6 mm
 grains (both d / r 0.113) are one non-dimensional state. DRFT has no length, so a xi fitted on one
 wheel carries to a wheel of another size in the same sand only as far as their d / r agree. This

@@ -4,7 +4,7 @@ RFT and DRFT have no length: a wheel half the size in the same sand is the same 
 the scale. The nonlocal-law MPM has one, the grain diameter d of its cooperativity length: on the
 resolved grid (2.5 mm cells) the large wheel with 12 mm grains and the half-size wheel with 6 mm
 grains (both d / r 0.113) are one non-dimensional state, and the large wheel with 6 mm grains
-(d / r 0.057) slips and sinks more (docs/results.md, "grain length"). DRFT fitted on one d / r
+(d / r 0.057) slips and sinks more (research/notes/results_log.md, "grain length"). DRFT fitted on one d / r
 carries to another wheel only at the same d / r; this module makes xi a function of it:
 
     xi(d / r) = xi_ref (d / r / q_ref)^p

@@ -1,6 +1,6 @@
 """A stiffness that grows with the rate, measured on the held pairs, against xi-DRFT's slow-wheel miss.
 
-Runs ``research/drft_rate_stiffness.py`` on the committed CSVs (docs/results.md, "A rate-dependent
+Runs ``research/drft_rate_stiffness.py`` on the committed CSVs (research/notes/results_log.md, "A rate-dependent
 stiffness from the held pairs"): the rate exponent c of xi(omega) = xi_ref (omega / 30 RPM)^c from
 the four held pairs, xi_ref refitted at 30 and 90 RPM with c fixed, and the 10-60 RPM runs
 predicted. The claims: c is 0.05-0.11, the held pairs' rate response moves DRFT's sinkage by a

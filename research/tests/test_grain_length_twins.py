@@ -1,5 +1,5 @@
 """The MPM's steady state against the grain length d / r: the half-size twins at d = 3, 6 (and 12) mm
-over the reference's 6.0-8.5 s (docs/results.md, registered in sessions 41-42 before the runs).
+over the reference's 6.0-8.5 s (research/notes/results_log.md, registered before the runs).
 
 Runs ``research/grain_length_twins.py`` on the committed window CSVs.
 """
@@ -29,7 +29,7 @@ def test_the_window_is_the_twins_time_scaled_and_the_runs_sorted_by_d(script):
 
 
 def test_doubling_d_from_3_to_6_mm_takes_0p113_of_slip_and_0p064_of_sinkage_over_r(script):
-    """Session 42's outcome: 0.361 -> 0.248 in slip, 0.310 -> 0.246 in sinkage / r; one doubling."""
+    """The outcome: 0.361 -> 0.248 in slip, 0.310 -> 0.246 in sinkage / r; one doubling."""
     res = script.analyse([D3, D6], None, (6.0, 8.5))
     (step,) = res["steps"]
     assert step["slip_per_doubling"] == pytest.approx(-0.113, abs=0.002)
@@ -55,7 +55,7 @@ D12 = (FIG / "small_wheel_42rpm_twin_d12_6s.csv", "small wheel, 2.5 mm, 12 mm gr
 
 
 def test_with_12_mm_grains_the_effect_goes_on_a_little_slower_per_doubling(script):
-    """Outcome (session 42, registered before the run): the 12 mm twin slips 0.162 at sinkage / r
+    """Outcome (registered before the run): the 12 mm twin slips 0.162 at sinkage / r
     0.209 over the reference's 6.0-8.5 s, 0.086 below the 6 mm twin (registered: goes on if more
     than 0.03 below); per doubling of d the slip falls 0.113 then 0.086."""
     res = script.analyse([D3, D6, D12], REFERENCE, (6.0, 8.5))
@@ -77,7 +77,7 @@ SMALL_PAIR = [
 
 
 def test_the_resolved_grid_series_reads_the_large_wheel_and_interpolates_the_small_one(script):
-    """Session 43's registration: the 2.5 mm large wheel with 6 mm grains (slip 0.128, sinkage / r 0.192
+    """The registration: the 2.5 mm large wheel with 6 mm grains (slip 0.128, sinkage / r 0.192
     over 4.5-6.0 s) and the 1.25 mm small wheel at 30 and 60 RPM (0.106 / 0.183 and 0.061 / 0.159)
     interpolated linearly in omega to 42.43 RPM: 0.087 and 0.173."""
     res = script.analyse([D3, D6], None, (6.0, 8.5), [FINE_D6], (4.5, 6.0), SMALL_PAIR)
@@ -121,7 +121,7 @@ FINE_D12 = (FIG / "wheel_30rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, treadmi
 
 
 def test_on_the_resolved_grid_doubling_d_still_takes_slip_at_0p6x_the_coarse_grids_rate(script):
-    """Session 43's outcome (registered before the run): the 2.5 mm large wheel with 12 mm grains slips
+    """The outcome (registered before the run): the 2.5 mm large wheel with 12 mm grains slips
     0.061 at sinkage / r 0.163 over 4.5-6.0 s, 0.067 below the 6 mm wheel's 0.128 (registered: a steady
     size effect if more than 0.025 below); the coarse twins' 6 -> 12 mm step was -0.086. Against the
     interpolated 1.25 mm small wheel (registered within 0.02 in slip, 0.015 in sinkage / r): the
@@ -140,7 +140,7 @@ def test_on_the_resolved_grid_doubling_d_still_takes_slip_at_0p6x_the_coarse_gri
 
 
 def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin(script):
-    """Session 43's second outcome (registered): the 12 mm-grain large wheel at 42.43 RPM over 3.5-4.0 s
+    """The second outcome (registered): the 12 mm-grain large wheel at 42.43 RPM over 3.5-4.0 s
     against the 1.25 mm small wheel with 6 mm grains at 60 RPM over 2.5-3.0 s (the same omega / omega_0,
     d / r and h / r): within 0.015 in slip and 0.010 in sinkage / r."""
     big = script.state(FIG / "wheel_42rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 42.43 RPM, treadmill in 1 m", 12e-3,
@@ -151,7 +151,7 @@ def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin(script)
 
 
 def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
-    """Session 44's registered low-omega run, read in session 45 over 5.0-6.0 s: the 12 mm-grain large
+    """The registered low-omega run, earlier over 5.0-6.0 s: the 12 mm-grain large
     wheel at 10 RPM against the 6 mm one. (a) slip more than 0.03 below 0.246: met (0.174); (b) the
     excess slip over 30 RPM is a length effect below 0.120, not one above 0.161: not (0.174);
     (c), (d) xi-DRFT within 15 % in v and sinkage: both miss the sinkage."""
@@ -161,7 +161,7 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
     assert (big["velocity"], big["sinkage"], big["slip"]) == (
         pytest.approx(0.0917, abs=2e-4), pytest.approx(24.27e-3, abs=0.02e-3), pytest.approx(0.174, abs=0.001))
     six = script.state(FIG / "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 6e-3, 10.0, 0.106,
-                       (5.0, 6.0))  # the 6 mm-grain wheel, session 30  # fmt: skip
+                       (5.0, 6.0))  # the 6 mm-grain wheel, an earlier study  # fmt: skip
     six_slip, six_sinkage = six["slip"], six["sinkage"]
     assert (six_slip, six_sinkage) == (pytest.approx(0.246, abs=0.001), pytest.approx(26.93e-3, abs=0.02e-3))
     assert six_slip - big["slip"] > 0.03  # (a)
@@ -176,7 +176,7 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
 
 
 def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_percent(script):
-    """Session 46's registered extension of that run from 6.0 to 8.0 s, read over 7.0-8.0 s: (e) the
+    """The registered extension of that run from 6.0 to 8.0 s, read over 7.0-8.0 s: (e) the
     sinkage settles (7.5-8.0 s within 0.2 mm of 7.0-7.5 s: 0.03 mm); (c) xi-DRFT (xi 1.94: 0.0996 m/s,
     19.7 mm) is met if the MPM sinks at most 23.19 mm: it sinks 23.35 mm, so the sinkage misses by 0.6
     points (-15.6 %) and v is within (+8.0 %); the excess slip stays above (b)'s 0.161."""
@@ -188,7 +188,7 @@ def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_perc
     assert abs(halves[1]["sinkage"] - halves[0]["sinkage"]) < 0.2e-3  # (e) settled
     assert (late["velocity"], late["sinkage"], late["slip"]) == (
         pytest.approx(0.0922, abs=2e-4), pytest.approx(23.35e-3, abs=0.02e-3), pytest.approx(0.170, abs=0.001))
-    earlier = script.state(csv, label, 12e-3, 10.0, 0.106, (5.0, 6.0))  # the same run's 5.0-6.0 s, as read in session 45
+    earlier = script.state(csv, label, 12e-3, 10.0, 0.106, (5.0, 6.0))  # the same run's 5.0-6.0 s, as earlier
     assert earlier["sinkage"] == pytest.approx(24.27e-3, abs=0.02e-3) and earlier["sinkage"] - late["sinkage"] > 0.8e-3
     assert late["sinkage"] > 19.7e-3 / 0.85  # (c) missed, by 0.16 mm of sinkage
     assert 19.7e-3 / late["sinkage"] - 1 == pytest.approx(-0.156, abs=0.002)
@@ -197,7 +197,7 @@ def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_perc
 
 
 def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15_percent(script):
-    """Session 46's second registered extension, 8.0 -> 10.0 s, read over 9.0-10.0 s. (e') neither
+    """The second registered extension, 8.0 -> 10.0 s, read over 9.0-10.0 s. (e') neither
     settled (the halves differ by 0.22 mm, limit 0.2) nor still easing by the rule (0.17 mm below
     7.0-8.0 s, limit 0.3): the decline slowed from ~0.8 to ~0.09 mm/s. (c') met by the registered
     threshold (23.19 mm) by 0.01 mm; with the DRFT run's unrounded sinkage (19.66 mm) -15.2 %: on the edge."""
@@ -218,7 +218,7 @@ def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15
 
 
 def test_carried_to_14_s_the_10_rpm_sinkage_has_stopped_at_xi_drfts_limit(script):
-    """Session 46's third registered extension, 10 -> 14 s, read over 13.0-14.0 s: (e'') the easing has
+    """The third registered extension, 10 -> 14 s, read over 13.0-14.0 s: (e'') the easing has
     ended (11-12 s and 13-14 s within 0.2 mm: 0.19 mm); (c'') on the edge (23.30 mm, between the
     registered 22.93 and 23.33). Over 7-14 s (14 windows) the sinkage is 23.22 mm (23.03-23.37):
     xi-DRFT (unrounded 19.66 mm) -15.3 % in sinkage, +8.5 % in v."""

@@ -1,5 +1,5 @@
 """Is it the grain size? The 1.25 mm small wheel at 60 RPM with 3 mm grains against 6 mm grains
-(docs/results.md, registered in b119ed1 before the run).
+(research/notes/results_log.md, registered in b119ed1 before the run).
 
 Runs ``research/grain_size_pair.py`` on the committed window CSVs. The registered reading, over
 1.5-2.0 s: the grain length explains the size effect if the 3 mm wheel slips >= 0.11 and sinks
@@ -61,7 +61,7 @@ def pair(script):
 
 
 def test_halving_the_grain_doubles_the_slip_past_the_registered_threshold(pair):
-    """Outcome (session 38): over 1.5-2.0 s (drift 3.0 %) the 3 mm wheel: v 0.2654 m/s, sinkage
+    """Outcome: over 1.5-2.0 s (drift 3.0 %) the 3 mm wheel: v 0.2654 m/s, sinkage
     12.05 mm, slip 0.203; the 6 mm wheel 0.3036 m/s, 9.23 mm, 0.088: 'in full' by the registered
     thresholds, and past the large wheel's steady state (slip 0.117, sinkage / r 0.187)."""
     d3 = pair["runs"][1]

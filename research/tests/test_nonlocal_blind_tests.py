@@ -1,4 +1,4 @@
-"""Blind tests of the DRFT calibrated on the nonlocal-law wheel (docs/results.md, "Calibrated on
+"""Blind tests of the DRFT calibrated on the nonlocal-law wheel (research/notes/results_log.md, "Calibrated on
 the nonlocal-law wheel"): runs registered with their predictions before they ran (9e6c4b8, b8832f1;
 the 1.25 mm small wheel 0c1b1c9, its extension to 3.5 s 611833d; the 10 RPM wheel's window and
 command 0f8ad43).
@@ -133,7 +133,7 @@ def test_the_60_rpm_blind_test_met(xi):
 
 
 def test_the_10_rpm_extrapolation_missed(xi):
-    """Large wheel, 10 RPM, 2.5 mm, registered in sessions 31-32: settled over 5.0-6.0 s (drift 0.6 %)
+    """Large wheel, 10 RPM, 2.5 mm, registered: settled over 5.0-6.0 s (drift 0.6 %)
     at v 0.0838 m/s, sinkage 26.9 mm, slip 0.246. The registered prediction, v 0.0996 m/s and
     19.7 mm, is v +18.9 % and sinkage -27.0 %: outside the 15 % of the pass. The wheel slips 1.9-2.4x
     what it slips at 30-90 RPM, and its sinkage is where the slip-sinkage quadratic puts it
@@ -153,7 +153,7 @@ def test_the_10_rpm_extrapolation_missed(xi):
 
 
 def test_the_20_rpm_test_met(xi):
-    """Large wheel, 20 RPM, 2.5 mm, registered in session 33: settled over 4.0-5.0 s (drift 1.3 %) at
+    """Large wheel, 20 RPM, 2.5 mm, registered: settled over 4.0-5.0 s (drift 1.3 %) at
     v 0.1852 m/s, sinkage 22.3 mm, slip 0.166. The registered prediction, v 0.199 m/s and 19.7 mm, is
     v +7.6 % and sinkage -11.5 %: within the 15 % of the pass. The slip lies between the 30 and 10 RPM
     slips and the sinkage between theirs, on the slip-sinkage quadratic (22.4 mm; the MPM -0.3 %)."""
@@ -172,7 +172,7 @@ def test_the_20_rpm_test_met(xi):
 
 
 def test_the_15_rpm_test_v_met_sinkage_missed_as_registered(xi):
-    """Large wheel, 15 RPM, 2.5 mm, registered in session 35 (e9cf216) and run in session 36: settled
+    """Large wheel, 15 RPM, 2.5 mm, registered (e9cf216) and earlier: settled
     over 4.5-5.5 s (drift 0.2 %) at v 0.1364 m/s, sinkage 23.5 mm, slip 0.181. The registered
     prediction, v 0.1494 m/s and 19.67 mm, is v +9.5 % (within 15 %, as registered; expected +11 to
     +13 %) and sinkage -16.2 % (outside 15 %, as registered: the MPM sinks deeper than 23.14 mm).
@@ -194,7 +194,7 @@ def test_the_15_rpm_test_v_met_sinkage_missed_as_registered(xi):
 
 
 def test_the_12p5_rpm_test_met_as_registered(xi):
-    """Large wheel, 12.5 RPM, 2.5 mm, registered in session 36 (a6fe694): settled over 4.5-5.5 s (drift
+    """Large wheel, 12.5 RPM, 2.5 mm, registered (a6fe694): settled over 4.5-5.5 s (drift
     0.3 %) at v 0.1098 m/s, sinkage 24.9 mm, slip 0.209 (registered 0.195-0.215, v 0.1092-0.1117, on the
     quadratic within 5 %: +2.4 %). xi-DRFT (v 0.1245 m/s, 19.65 mm): v +13.4 % (within 15 %: the MPM's v
     above 0.1083 m/s), sinkage -21.2 % (outside: deeper than 23.12 mm), as registered."""
@@ -221,7 +221,7 @@ def test_the_15_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
 
 
 def test_the_15_rpm_wheel_carried_on_to_6p5_s_puts_drft_on_the_15_percent_line(xi):
-    """Registered in session 36 (fa14d90): the free 15 RPM run from 5.5 to 6.5 s. Over 5.5-6.5 s
+    """Registered (fa14d90): the free 15 RPM run from 5.5 to 6.5 s. Over 5.5-6.5 s
     (drift 1.6 %) v 0.1367 m/s, sinkage 23.14 mm (expected 23.0-23.4 mm, 0.135-0.139 m/s: met); below
     the registered 23.14 mm line by 0.004 mm, so xi-DRFT's sinkage is -14.98 %: inside 15 %, at the limit."""
     st = _settled("wheel_15rpm_nonlocal_treadmill_6p5s_steady.csv", "2.5 mm, 15 RPM, treadmill in 1 m, to 6.5 s", (5.5, 6.5),
@@ -253,7 +253,7 @@ def test_the_10_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
 
 
 def test_the_10_rpm_wheel_at_5_mm_met_its_resolution_predictions():
-    """Registered in session 33: the 10 RPM wheel at 5 mm over 6.0-10.0 s (drift 2.4 %) slips 0.414
+    """Registered: the 10 RPM wheel at 5 mm over 6.0-10.0 s (drift 2.4 %) slips 0.414
     and sinks 36.5 mm (predicted 0.35-0.55 and 30-40 mm); its slip step to 2.5 mm, 0.168, is 0.74x
     the 30 RPM step (0.228; the limit 1.5x), so the 2.5 mm reference reads as resolved. Its sinkage
     is on the slip-sinkage quadratic (-0.1 %)."""
@@ -276,7 +276,7 @@ def _held(name: str, rpm: float) -> dict[str, float]:
 
 
 def test_the_held_wheel_test_of_the_10_rpm_slip_does_not_decide():
-    """Registered in session 33: held at the 5 mm free wheel's 10 RPM state, at 10 and 30 RPM (the same
+    """Registered: held at the 5 mm free wheel's 10 RPM state, at 10 and 30 RPM (the same
     slip), over the same 0.29 m. The control missed: the held 10 RPM wheel carries Fx -1.28 N and
     Fz 47.5 N where the free wheel carries -4.0 N and 61.7 N (limits 1.5 N and 6 N), and both held
     wheels still load up at the end. Fx differs by +0.27 N between them (within 1 N), which by the
@@ -346,7 +346,7 @@ FINE60 = "small wheel, 1.25 mm, 60 RPM, 0.45 m box"
 
 
 def test_the_small_wheel_at_60_rpm_missed_in_sinkage_and_off_the_large_wheels_curve(xi):
-    """Registered in session 37 (02a9c2a; the extension rule 09114bb, fixed at t = 0.75 s). Over
+    """Registered (02a9c2a; the extension rule 09114bb, fixed at t = 0.75 s). Over
     2.0-2.5 s (drift 0.5 %) v 0.3107 m/s, sinkage 8.58 mm: xi-DRFT's sinkage +14.9 %, within 3 points
     of 15 %, so the run went on to 3.0 s and 2.5-3.0 s decides (drift 0.1 %): v 0.3128 m/s, sinkage
     8.41 mm, slip 0.061. xi-DRFT (0.2982 m/s, 9.86 mm): v -4.7 % (met), sinkage +17.2 % (missed). The
@@ -465,7 +465,7 @@ def _drft_along(name: str, model: str) -> dict[float, tuple[float, float]]:
 
 
 def test_the_10_rpm_wheel_held_at_30_rpm_gains_lift_not_thrust():
-    """Registered in session 34: from the free 10 RPM run's checkpoint (6.0 s), held 1.2 s at its
+    """Registered: from the free 10 RPM run's checkpoint (6.0 s), held 1.2 s at its
     height, at 10 RPM and its speed (control) and at 30 RPM and 3x its speed (the same slip); means over
     the last 0.6 s. Control met (Fx -3.95 N against -3.92 +- 1.5, Fz 63.7 N against 61.7 +- 6); at
     30 RPM dFx +0.67 N (within 1 N: the thrust does not move) and dFz +8.4 N (> 6 N: the lift grows
@@ -489,7 +489,7 @@ def test_the_10_rpm_wheel_held_at_30_rpm_gains_lift_not_thrust():
 
 
 def test_the_60_rpm_wheel_held_at_20_rpm_loses_lift_but_less_than_registered():
-    """Registered in session 34 after A and B: from the free 60 RPM run's checkpoint (5.5 s), held at
+    """Registered after A and B: from the free 60 RPM run's checkpoint (5.5 s), held at
     60 RPM (control, met: Fx -3.52 N, Fz 58.1 N) and at 20 RPM with a third of the speed. Thrust met
     (dFx +0.23 N); the lift falls by 4.7 N, not the 6 N registered: the sign met, the size missed.
     xi-DRFT's lift moves +0.4 N, the wrong way."""
@@ -506,7 +506,7 @@ def test_the_60_rpm_wheel_held_at_20_rpm_loses_lift_but_less_than_registered():
 
 
 def test_the_20_rpm_wheel_held_at_60_rpm_gains_less_lift_than_registered():
-    """Registered in session 34: from the free 20 RPM run's checkpoint (5.0 s), held at 20 RPM
+    """Registered: from the free 20 RPM run's checkpoint (5.0 s), held at 20 RPM
     (control, met: Fx -3.21 N, Fz 61.5 N) and at 60 RPM with 3x the speed. Thrust met (dFx +0.16 N);
     the lift +3.4 N, below the registered +4 to +9 N: missed. The gap shrinks with the travel, from
     +8.4 N over the first 0.3 s to +3.1 N over the last."""
@@ -522,7 +522,7 @@ def test_the_20_rpm_wheel_held_at_60_rpm_gains_less_lift_than_registered():
 
 
 def test_the_20_rpm_pair_held_longer_keeps_its_lift_gap():
-    """Registered in session 34: E and F held 0.6 s longer (to 6.8 s). Over 6.2-6.8 s dFz +3.6 N,
+    """Registered: E and F held 0.6 s longer (to 6.8 s). Over 6.2-6.8 s dFz +3.6 N,
     inside the +2.5 to +3.7 N registered for "the relaxation has ended"; the thrust still within 1 N."""
     rows = _switch_rows("wheel_switch_20rpm_long.csv")
     e, f = rows[20.0], rows[60.0]
@@ -534,7 +534,7 @@ def test_the_20_rpm_pair_held_longer_keeps_its_lift_gap():
 
 
 def test_the_15_rpm_wheel_held_at_45_rpm_keeps_a_lasting_lift_gap():
-    """Registered in session 36 (cfca0b7, 47f5656): from the free 15 RPM run's checkpoint (5.5 s), held
+    """Registered (cfca0b7, 47f5656): from the free 15 RPM run's checkpoint (5.5 s), held
     1.8 s at 15 RPM (control, met: Fx -3.82 N, Fz 63.60 N against the free -4.01 N, 61.75 N) and at 45
     RPM with 3x the speed; means over the last 0.6 s. Thrust met (dFx -0.23 N); lasting lift +5.83 N
     (registered +2.5 to +7 N), larger than from the 20 RPM state (+3.6 N); the first 0.3 s (+7.22 N)

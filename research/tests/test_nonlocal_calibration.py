@@ -1,5 +1,5 @@
 """The paper's DRFT with one fitted coefficient, the RFT scale xi, against the free wheel with the
-nonlocal law settled on the treadmill (docs/results.md, "Calibrated on the nonlocal-law wheel").
+nonlocal law settled on the treadmill (research/notes/results_log.md, "Calibrated on the nonlocal-law wheel").
 
 The MPM points (2.5 mm cells, 30 and 90 RPM) are the committed ``*_steady.csv`` rows of
 ``docs/figures/wheel_{30,90}rpm_nonlocal_treadmill``, turned into the sweep CSV that

@@ -1,5 +1,5 @@
 """``research/run_histories.py``: a run's last window, when the run ends inside it, is partial;
-it is named on stderr, and ``--whole-only`` leaves it out (session 41: the 3.2 s twins' last
+it is named on stderr, and ``--whole-only`` leaves it out (the 3.2 s twins' last
 0.3536 s window held 0.018 s of the run)."""
 
 from pathlib import Path

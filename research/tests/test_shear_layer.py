@@ -1,5 +1,5 @@
 """The sheared layer under the wheel held at a fixed state, against the cell size
-(docs/results.md, "Where the 1.25 mm difference comes from", item 4).
+(research/notes/results_log.md, "Where the 1.25 mm difference comes from", item 4).
 
 The width measure of ``research/shear_layer.py`` is checked on profiles with known widths; the
 committed table is recomputed from the committed profiles, and the findings the docs state are
@@ -65,7 +65,7 @@ def test_committed_widths_follow_from_the_committed_profiles(script):
 
 
 def test_the_shear_localises_further_at_every_halving_of_the_cells():
-    """docs/results.md: the fastest shearing near the wheel grows as h^-0.5 to h^-0.7 in every series,
+    """research/notes/results_log.md: the fastest shearing near the wheel grows as h^-0.5 to h^-0.7 in every series,
     and under the grousered wheel the sheared layer thins at each halving: not converged in h."""
     table = _rows(FIG / "shear_layer.csv")
     series = {}
@@ -89,7 +89,7 @@ def test_the_shear_localises_further_at_every_halving_of_the_cells():
 
 
 def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
-    """docs/results.md item 5: with eta = 10 Pa s the layer keeps its width and the lift moves
+    """research/notes/results_log.md item 5: with eta = 10 Pa s the layer keeps its width and the lift moves
     1.6 % from 2.5 to 1.25 mm, against 8 % for the paper's rate-independent law."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))
     visc, plain = "grousered, eta 10 Pa s", "grousered"
@@ -104,7 +104,7 @@ def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
 
 
 def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertial_number_small():
-    """docs/results.md item 6: with mu(I) (d = 1 mm) the fastest shear still grows at every halving
+    """research/notes/results_log.md item 6: with mu(I) (d = 1 mm) the fastest shear still grows at every halving
     and the lift still falls from 2.5 to 1.25 mm; under every held wheel the median I stays below 0.01."""
     table = _rows(FIG / "shear_layer.csv")
     rows = _keyed(table)
@@ -119,7 +119,7 @@ def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertia
 
 
 def test_the_nonlocal_fluidity_keeps_the_layer_width_but_not_the_lift():
-    """docs/results.md item 7: with the nonlocal fluidity the dragged layer stops thinning (1 mm grains
+    """research/notes/results_log.md item 7: with the nonlocal fluidity the dragged layer stops thinning (1 mm grains
     -5 % from 2.5 to 1.25 mm, 3 mm grains within 3 % over 5-1.25 mm), while the lift rises 15-20 %."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))
     width = _column(rows, "width_90_10_mm")
@@ -137,7 +137,7 @@ def test_the_nonlocal_fluidity_keeps_the_layer_width_but_not_the_lift():
 
 
 def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_set_the_rest():
-    """docs/results.md item 8: the smooth rim's lift changes less at each halving of the cells with
+    """research/notes/results_log.md item 8: the smooth rim's lift changes less at each halving of the cells with
     the nonlocal fluidity (3 mm grains: +7.2 %, +3.8 %; 6 mm grains: +7.9 %, +0.45 %) and more with
     the paper's law (-6 %, -11 %);
     the grousered wheel's deficit against the smooth rim about halves with the cells; neither the
@@ -169,7 +169,7 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
 
 
 def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
-    """docs/results.md item 9: in the 0.45 m box the 1.25 mm lift is the 0.7 m box's; from 1.25 to
+    """research/notes/results_log.md item 9: in the 0.45 m box the 1.25 mm lift is the 0.7 m box's; from 1.25 to
     0.625 mm the grousered lift rises 2.1 % (against 17.8 % at the halving before), and its deficit
     against the smooth rim keeps 0.90 of itself, so the registered prediction (53.2-55.3 N, a
     deficit falling to 0.53-0.73) missed: the wheel converges below the smooth rim."""
@@ -189,7 +189,7 @@ def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
 
 
 def test_at_0625_mm_the_smooth_rim_holds_its_lift():
-    """docs/results.md item 9, the smooth rim's registered check: with the nonlocal fluidity (6 mm
+    """research/notes/results_log.md item 9, the smooth rim's registered check: with the nonlocal fluidity (6 mm
     grains) its 0.625 mm lift lies within 1 % of the 1.25 mm one, and the grousered wheel's deficit
     at equal cells stays at 9-10.5 N."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))

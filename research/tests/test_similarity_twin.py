@@ -1,6 +1,6 @@
 """Is the MPM size-similar when all its lengths scale together? The small wheel at 2.5 mm cells
 with 3 mm grains in a half box against the Table S1 wheel at 5 mm cells with 6 mm grains
-(docs/results.md, registered in session 39 before the run).
+(research/notes/results_log.md, registered before the run).
 
 Runs ``research/similarity_twin.py`` on the committed window CSVs. The registered reading, over the
 reference's 3.5-4.5 s (the twin's 2.475-3.182 s): similar if |d slip| <= 0.03 and |d sinkage / r|
@@ -29,12 +29,12 @@ def test_the_verdict_reads_the_registered_thresholds(script):
 
 
 def test_the_verdict_reads_other_registered_bands(script):
-    """Session 41's bands for the steady state (0.008 / 0.004 within, 0.015 / 0.008 past)."""
+    """The bands for the steady state (0.008 / 0.004 within, 0.015 / 0.008 past)."""
     bands = dict(similar=(0.008, 0.004), not_similar=(0.015, 0.008))
     assert script.verdict(0.008, -0.004, **bands) == "similar"
     assert script.verdict(0.01, 0.0, **bands) == "in part"
     assert script.verdict(0.0, 0.0081, **bands) == "not similar"
-    assert script.verdict(0.01, 0.0) == "similar"  # the same difference under session 39's bands
+    assert script.verdict(0.01, 0.0) == "similar"  # the same difference under the bands
 
 
 @pytest.mark.parametrize("similar, not_similar", [((0.02, 0.01), (0.01, 0.02)), ((0.0, 0.01), (0.02, 0.02))])
@@ -75,7 +75,7 @@ def twin(script):
 
 
 def test_the_twin_reads_in_part_at_the_edge_of_similar(twin):
-    """Outcome (session 39): over 2.475-3.182 s the twin slips 0.405 at sinkage / r 0.335 (drift
+    """Outcome: over 2.475-3.182 s the twin slips 0.405 at sinkage / r 0.335 (drift
     3.0 %), the reference over 3.5-4.5 s 0.376 and 0.319: slip +0.029 (within 0.03), sinkage / r
     +0.016 (past 0.015 by 0.001): 'in part' by the registered thresholds."""
     rows, res = twin
@@ -103,7 +103,7 @@ def test_the_twin_follows_the_reference_window_by_window_to_2p5_s_then_rides_dee
 
 
 def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_effect(script, twin):
-    """Outcome (session 39, registered before its run): over 2.475-3.182 s the twin with 6 mm grains
+    """Outcome (registered before its run): over 2.475-3.182 s the twin with 6 mm grains
     slips 0.240 at sinkage / r 0.247 (v 0.1789 m/s, 13.11 mm), 0.165 below the 3 mm twin's 0.405:
     more than the registered 0.06, so the grain length makes the size effect at 2.5 mm cells too."""
     _, d6 = _against_reference(script, "small_wheel_42rpm_twin_d6.csv", "small wheel, 2.5 mm, 6 mm grains, half box")
@@ -115,7 +115,7 @@ def test_with_6_mm_grains_the_twin_slips_0p165_less_the_registered_grain_length_
     assert d6["verdict"] == "not similar"
 
 
-SET_UP_MADE_IT = (0.01, 0.005)  # registered in session 40: |d slip|, |d sinkage / r| over 2.475-3.182 s
+SET_UP_MADE_IT = (0.01, 0.005)  # registered: |d slip|, |d sinkage / r| over 2.475-3.182 s
 
 
 @pytest.fixture(scope="module")
@@ -129,7 +129,7 @@ def e_only(script):
 
 
 def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(scaled):
-    """Outcome (session 40, registered before its run): with the start, E, spin-up and run-control
+    """Outcome (registered before its run): with the start, E, spin-up and run-control
     interval scaled too, over 2.475-3.182 s the twin slips 0.377 at sinkage / r 0.320 against 0.376
     and 0.319 (within the registered 0.01 and 0.005: the set-up made the first twin's residual), and
     every 0.3536 s window to the reference's 4.5 s agrees within 0.0015 in slip and sinkage / r."""
@@ -151,7 +151,7 @@ def _within(a: dict, b: dict, band: tuple[float, float]) -> bool:
 
 
 def test_the_stiffness_alone_made_the_first_twins_residual(twin, scaled, e_only):
-    """Outcome (session 40, registered before its run): the first twin with only E scaled (0.5 MPa)
+    """Outcome (registered before its run): the first twin with only E scaled (0.5 MPa)
     slips 0.376 at sinkage / r 0.319 over 2.475-3.182 s: within the registered 0.01 and 0.005 of the
     scaled twin (0.377, 0.320), not of the first twin (0.405, 0.335): the stiffness made it."""
     rows, res = e_only
@@ -166,7 +166,7 @@ def test_the_stiffness_alone_made_the_first_twins_residual(twin, scaled, e_only)
 
 
 def test_the_stiffness_not_the_time_step(script, twin, e_only):
-    """Outcome (session 40, registered before its run): the E-only twin at the first twin's dt
+    """Outcome (registered before its run): the E-only twin at the first twin's dt
     (C = 0.2121) slips 0.371 at sinkage / r 0.316 over 2.475-3.182 s: within the registered 0.01
     and 0.005 of the E-only twin (0.376, 0.319), 0.034 and 0.019 from the first twin (0.405, 0.335)."""
     _, res = _against_reference(script, "small_wheel_42rpm_twin_E_dt.csv",
@@ -179,7 +179,7 @@ def test_the_stiffness_not_the_time_step(script, twin, e_only):
 
 
 def test_a_softer_bed_slips_more_too(script, e_only, twin):
-    """Outcome (session 40, registered before its run): at half the reference's E / (rho_c g r)
+    """Outcome (registered before its run): at half the reference's E / (rho_c g r)
     (E 0.25 MPa) the twin slips 0.399 at sinkage / r 0.335 over 2.475-3.182 s: above the registered
     0.357 (not log-linear), so both halving and doubling the stiffness add slip (+0.022, +0.029),
     and the soft twin is still easing over its last windows, like the first twin."""
@@ -193,7 +193,7 @@ def test_a_softer_bed_slips_more_too(script, e_only, twin):
     assert late[0] - late[-1] > 0.03  # still easing from 2.0 to 4.5 s (reference time)
 
 
-STEADY_BANDS = dict(similar=(0.008, 0.004), not_similar=(0.015, 0.008))  # registered in session 41, 6.0-8.5 s
+STEADY_BANDS = dict(similar=(0.008, 0.004), not_similar=(0.015, 0.008))  # registered.0-8.5 s
 
 
 def _late(script, name: str, label: str) -> tuple[list[dict], dict]:
@@ -212,7 +212,7 @@ def late_first(script):
 
 
 def test_the_softer_bed_carried_to_6_s_comes_back_to_the_reference(late_soft):
-    """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E 0.25 MPa
+    """Outcome (registered before the run): over the reference's 6.0-8.5 s the E 0.25 MPa
     twin slips 0.360 at sinkage / r 0.309 against 0.356 and 0.304: in part (slip within 0.008,
     sinkage / r 0.001 past 0.004); it falls faster than the reference and crosses it by 8.0-8.5 s."""
     rows, res = late_soft
@@ -226,7 +226,7 @@ def test_the_softer_bed_carried_to_6_s_comes_back_to_the_reference(late_soft):
 
 
 def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(late_first):
-    """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E 1 MPa
+    """Outcome (registered before the run): over the reference's 6.0-8.5 s the E 1 MPa
     twin slips 0.361 at sinkage / r 0.310 against 0.356 and 0.304: in part (slip within 0.008,
     sinkage / r 0.001 past 0.004); its gap to the reference closes from +0.038 of slip at 3.5-4.0 s."""
     rows, res = late_first
@@ -240,7 +240,7 @@ def test_the_first_twin_carried_to_6_s_comes_back_to_the_reference_too(late_firs
 
 
 def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effect(script, late_first, late_soft):
-    """Outcome (session 41, registered before the run): over the reference's 6.0-8.5 s the E-scaled
+    """Outcome (registered before the run): over the reference's 6.0-8.5 s the E-scaled
     twin slips 0.358 at sinkage / r 0.305 against 0.356 and 0.304 (within the registered 0.005 and
     0.003: still a replica), and the E 1 MPa and E 0.25 MPa twins come within 0.0031 in slip and
     0.0051 in sinkage / r of it: E / (rho_c g r) lengthened the transient, not the steady state."""
@@ -256,7 +256,7 @@ def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effec
 
 
 def test_the_6_mm_twin_carried_to_6_s_holds_a_steady_grain_length_effect(script, late_first):
-    """Outcome (session 42, registered before the run): over the reference's 6.0-8.5 s the 6 mm
+    """Outcome (registered before the run): over the reference's 6.0-8.5 s the 6 mm
     twin slips 0.248 at sinkage / r 0.246 against the 3 mm first twin's 0.361 and 0.310: 0.113 and
     0.064 below, past the registered 0.06 and 0.03, so d / r is a steady size effect; the 6 mm
     twin has held 0.235-0.261 over the reference's 3.5-8.5 s while the 3 mm twin eased."""

@@ -1,4 +1,4 @@
-"""What the MPM wheel's rear drop and sinkage follow (docs/results.md, "The rear drop, the sinkage and the slip").
+"""What the MPM wheel's rear drop and sinkage follow (research/notes/results_log.md, "The rear drop, the sinkage and the slip").
 
 Runs the analysis of ``research/slip_dependence.py`` on the committed MPM CSVs: tau of the slip
 law dh = tau (r omega - v) is fitted on the Table S1 wheel's five settled omega runs only; the
@@ -39,7 +39,7 @@ def test_tau_is_fitted_on_the_omega_sweep_alone(analysis):
     assert {r["source"] for r in fit} == {"grousered_wheel: omega sweep (mpm_band0_settled)"} and len(fit) == 5
     vs, dh = np.array([r["slip_speed"] for r in fit]), np.array([r["dh"] for r in fit])
     assert tau == pytest.approx(np.linalg.lstsq(vs[:, None], dh, rcond=None)[0][0], rel=1e-12)
-    assert 0.060 < tau < 0.072  # s (66 ms in docs/results.md)
+    assert 0.060 < tau < 0.072  # s (66 ms in research/notes/results_log.md)
     failed = sorted(r["label"] for r in rows if not r["drop_ok"] and np.isfinite(r["dh"]))
     assert failed == ["20 grousers, 6.3 kg, -4 N", "20 grousers, 9.45 kg, 4 N"]  # the two wheels that dig in
 

@@ -1,5 +1,5 @@
 """The free Table S1 wheel with the nonlocal fluidity at 5, 2.5 and 1.25 mm cells
-(docs/results.md, "Where the 1.25 mm difference comes from", item 10).
+(research/notes/results_log.md, "Where the 1.25 mm difference comes from", item 10).
 
 The committed histories (``research/run_histories.py`` over the run folders, 0.25 s windows) are
 checked against what the docs state, the registered 1.25 mm outcome included.

@@ -1,5 +1,5 @@
 """The free Table S1 wheel with the nonlocal fluidity, run long on the moving window (treadmill)
-(docs/results.md, "Where the 1.25 mm difference comes from", item 11).
+(research/notes/results_log.md, "Where the 1.25 mm difference comes from", item 11).
 
 The committed histories and steady states (``research/run_histories.py --steady-from``) are
 checked against what the docs state.

@@ -1,6 +1,6 @@
 """DRFT's xi against the grain length d / r (an extension): xi fitted on the large wheel with 6 and
 12 mm grains on the resolved grid, the law through them, and its transfer to the small 1.25 mm wheel
-with 6 mm grains (the same d / r as the 12 mm large wheel; docs/results.md, session 44).
+with 6 mm grains (the same d / r as the 12 mm large wheel; research/notes/results_log.md).
 
 Runs ``research/xi_grain_length.py`` on the committed MPM sweeps.
 """

@@ -12,7 +12,7 @@ linearly with depth).
 
 This term is NOT in the paper. RFT sums forces that each surface element would feel alone, from
 its own velocity; our MPM wheel is held back by grains that resist the advance of the whole body
-while its lower rim slides backward, which no element's velocity carries (docs/results.md, "The
+while its lower rim slides backward, which no element's velocity carries (research/notes/results_log.md, "The
 MPM medium's own RFT map"). F_b is the simplest body-level form of that resistance; k_b is fitted
 on MPM runs (:mod:`intrusim.analysis.calibration`, parameter ``bulldozing``). The sign uses
 tanh(v_x / v_reg), a rate-independent Coulomb-like resistance smoothed over |v_x| < ~v_reg so the
