@@ -244,7 +244,7 @@ class ResistiveForceModel:
     lam : lambda of the inertial correction (0 = none).
     free_surface : structural-correction model (FlatFreeSurface = none).
     surface_z : height of the undisturbed free surface, m.
-    coef : (4, 3, 2) RFT coefficient table [A, B, C, D][m + 1, n] in N/cm^3, scaled by xi
+    coef : (4, 3, 2) RFT coefficient table ``[A, B, C, D][m + 1, n]`` in N/cm^3, scaled by xi
         (None: the generic Li 2013 fit; ``laws.rft.load_coefficients`` reads a measured one).
     bulldozing : N/m^2, resistance per squared depth of the body-level bulldozing term
         F_b = -bulldozing d^2 tanh(v_x / V_REG) (:mod:`intrusim.laws.bulldozing`; 0: none, the paper).

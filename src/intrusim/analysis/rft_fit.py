@@ -8,7 +8,7 @@ Li et al. keep nine terms of the discrete Fourier series (``intrusim.laws.rft``)
 These terms, and only these, keep the mirror symmetry x -> -x on the edges gamma = +-pi/2 of the
 fitted range (alpha_z even and alpha_x odd in beta there), so the extension of ``laws.rft.alpha``
 to every direction stays continuous. The fit is linear least squares in each component; the
-result is a (4, 3, 2) table [A, B, C, D][m + 1, n] in N/cm^3, the layout of the generic one.
+result is a (4, 3, 2) table ``[A, B, C, D][m + 1, n]`` in N/cm^3, the layout of the generic one.
 """
 
 from __future__ import annotations

@@ -96,7 +96,7 @@ def alpha_fit(beta: np.ndarray, gamma: np.ndarray, coef: np.ndarray | None = Non
     alpha_x = sum_{m=-1..1, n=0..1} C_mn cos(2 m beta + n gamma) + D_mn sin(2 m beta + n gamma)
 
     Valid for beta, gamma in [-pi/2, pi/2]; use :func:`alpha` for any angles. ``coef``: a
-    (4, 3, 2) table [A, B, C, D][m + 1, n] in N/cm^3 (default: the generic one, :data:`LI2013`).
+    (4, 3, 2) table ``[A, B, C, D][m + 1, n]`` in N/cm^3 (default: the generic one, :data:`LI2013`).
     """
     A, B, C, D = as_table(coef)
     beta = np.asarray(beta, float)
@@ -174,6 +174,9 @@ def rft_traction(
 ) -> np.ndarray:
     """Quasistatic RFT traction t = alpha(beta, gamma) H(-z) |z| on leading elements (Eq. 3), N/m^2.
 
+    Elements that do not move into the medium (n . v <= 0, the leading-edge rule) or lie
+    above the surface get zero traction.
+
     Parameters
     ----------
     normal : (N, 2) outward unit normals.
@@ -182,9 +185,6 @@ def rft_traction(
         negative below the surface (the paper's z, or z~ = z + dh for DRFT).
     xi : media scaling coefficient.
     coef : (4, 3, 2) coefficient table in N/cm^3 (default: the generic fit).
-
-    Elements that do not move into the medium (n . v <= 0, the leading-edge rule) or lie
-    above the surface get zero traction.
     """
     return rft_traction_with(lambda b, g: alpha(b, g, xi, coef), normal, velocity, depth)
 
