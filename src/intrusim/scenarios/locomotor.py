@@ -1,7 +1,7 @@
 """Self-propelled locomotors: the grousered wheel, the small wheel (Fig S1), the four-flap runner.
 
 All three are a circular hub with rectangular lugs (grousers or flaps), driven at a prescribed
-omega and free to translate in x and z (SPEC section 4). One config class,
+omega and free to translate in x and z. One config class,
 :class:`LocomotorScenario`, holds the geometry, the effective inertias, the force-model
 parameters and the run control; the shipped defaults come from Table S1
 (:func:`intrusim.params.table_s1`):
