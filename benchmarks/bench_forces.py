@@ -39,7 +39,7 @@ def loop_wrench(elements, state: BodyState, xi: float, rho: float, lam: float, r
     dh = structural_depth_shift(radius, state.omega)
     fx = fz = mom = 0.0
     for i in range(n_el):
-        (rx, rz), (px, pz), (nx, nz), (ux, uz) = rel[i], pos[i], nrm[i], vel[i]
+        (rx, rz), (_, pz), (nx, nz), (ux, uz) = rel[i], pos[i], nrm[i], vel[i]
         vn = nx * ux + nz * uz
         depth = pz + (dh if math.atan2(fwd * rx, -rz) < mid else 0.0)
         if vn <= 0 or depth >= 0:

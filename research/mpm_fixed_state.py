@@ -278,7 +278,10 @@ def table(args: argparse.Namespace) -> None:
         label += ", smooth rim" if meta.get("smooth") else ""
         color = {5.0: "C0", 2.5: "C1", 1.25: "C2"}.get(float(meta["cell_mm"]), "C3")
         k = max(1, int(round(0.1 / np.median(np.diff(t["time"])))))  # one grouser period at 30 RPM
-        smooth = lambda y: np.convolve(y, np.ones(k) / k, mode="valid")
+
+        def smooth(y, k=k):
+            return np.convolve(y, np.ones(k) / k, mode="valid")
+
         tt = smooth(t["time"])
         axes[0].plot(tt, smooth(t["fx"]), styles[state], color=color, label=label)
         axes[1].plot(tt, smooth(t["fz"]), styles[state], color=color)

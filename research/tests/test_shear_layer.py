@@ -145,7 +145,10 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     grousered wheel's rise."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))
     lift = _column(rows, "fz")
-    steps = lambda name: np.diff([lift(name, h) for h in (5.0, 2.5, 1.25)])
+
+    def steps(name):
+        return np.diff([lift(name, h) for h in (5.0, 2.5, 1.25)])
+
     nonlocal_smooth, paper_smooth = steps("smooth rim, nonlocal d 3 mm"), steps("smooth rim")
     assert abs(nonlocal_smooth[1]) < 0.7 * abs(nonlocal_smooth[0])  # 3.95 then 2.25 N
     assert abs(nonlocal_smooth[1]) / lift("smooth rim, nonlocal d 3 mm", 2.5) < 0.05
@@ -158,7 +161,10 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     six_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift("grousered, nonlocal d 6 mm", h) for h in (5.0, 2.5, 1.25)]
     thick_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift(thick, h) for h in (5.0, 2.5, 1.25)]
     assert all(0 < t < d for t, d in zip(thick_deficit, six_deficit))  # 15.9 / 7.8 / 2.7 against 24.7 / 18.1 / 10.8 N
-    rise = lambda name: lift(name, 1.25) / lift(name, 2.5) - 1.0
+
+    def rise(name):
+        return lift(name, 1.25) / lift(name, 2.5) - 1.0
+
     assert 0 < rise(thick) < 0.7 * rise("grousered, nonlocal d 6 mm")  # +10.3 % against +17.8 %
     xi_cells = float(rows[("grousered, nonlocal d 6 mm", 2.5)]["xi_fast_median_cells"])
     assert xi_cells > 3.0  # the 6 mm grains' layer is resolved at 2.5 mm ...
