@@ -26,8 +26,8 @@ import math
 import numba
 import numpy as np
 
-from intrusim._traction import element_force, fit_rows, surface_params
-from intrusim.forces import CHUNK, _alpha_consts, _pseudo_angle, _wrench_kernel
+from intrusim._traction import alpha_constants, element_force, fit_rows, surface_params
+from intrusim.forces import CHUNK, _pseudo_angle, _wrench_kernel
 from intrusim.laws.bulldozing import bulldozing_wrench
 from intrusim.laws.drft import MID_ANGLE_TIE
 
@@ -246,7 +246,7 @@ def _implicit_step(
     Returns (status, vx1, vz1, fx, fz, moment, iterations, best |G|); ``jac`` (4,) and
     ``has_jac`` (1,) are updated in place; ``geo``, ``lead``, ``work``: work arrays of
     _rotate_elements and _element_forces,
-    ``k``: _alpha_consts of the fit.
+    ``k``: ``_traction.alpha_constants`` of the fit.
     """
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
     # theta and omega are fixed in the step: rotate the elements that can touch once
@@ -338,7 +338,7 @@ def simulate_implicit(
     geo = np.empty((GEO_ROWS, mid.shape[0]))
     lead = np.empty((GEO_ROWS, mid.shape[0]))
     work = np.empty((3, mid.shape[0]))
-    fit = _alpha_consts(coef)
+    fit = alpha_constants(coef)
     v_slack = V_SLACK
     for i in range(1, n + 1):
         ti = t_start + i * dt

@@ -18,9 +18,35 @@ import numba
 import numpy as np
 
 
+@numba.njit(cache=True)
+def alpha_constants(coef: np.ndarray) -> np.ndarray:
+    """The Li (2013) Fourier fit (``laws.rft.alpha_fit``) as (2, 9) constants collected by powers of
+    cos / sin 2 beta, so that alpha needs no trigonometry per element.
+
+    The fit is a sum over m in {-1, 0, 1}, n in {0, 1} of A, B (alpha_z) and C, D (alpha_x) times
+    cos / sin(2 m beta + n gamma), ``coef[k, m + 1, n]``, expanded with the angle-addition formulas.
+    With P_m = A[m,0] + A[m,1] cg + B[m,1] sg and Q_m = B[m,0] - A[m,1] sg + B[m,1] cg,
+    alpha_z = c2b (P_-1 + P_1) + P_0 + s2b (Q_1 - Q_-1); row 0 holds the factors of alpha_z
+    (A, B), row 1 those of alpha_x (C, D), each as [c2b: 1, cg, sg | 1: 1, cg, sg | s2b: 1, cg, sg].
+    """
+    out = np.empty((2, 9))
+    for r in range(2):
+        a, b = coef[2 * r], coef[2 * r + 1]
+        out[r, 0] = a[0, 0] + a[2, 0]
+        out[r, 1] = a[0, 1] + a[2, 1]
+        out[r, 2] = b[0, 1] + b[2, 1]
+        out[r, 3] = a[1, 0]
+        out[r, 4] = a[1, 1]
+        out[r, 5] = b[1, 1]
+        out[r, 6] = b[2, 0] - b[0, 0]
+        out[r, 7] = b[2, 1] - b[0, 1]
+        out[r, 8] = a[0, 1] - a[2, 1]
+    return out
+
+
 @numba.njit(cache=True, inline="always")
 def fit_rows(k: np.ndarray) -> tuple:
-    """The (2, 9) constants of ``forces._alpha_consts`` as two 9-tuples (alpha_z row, alpha_x row):
+    """The (2, 9) constants of :func:`alpha_constants` as two 9-tuples (alpha_z row, alpha_x row):
     scalars the compiler keeps in registers through an element loop."""
     kz = (k[0, 0], k[0, 1], k[0, 2], k[0, 3], k[0, 4], k[0, 5], k[0, 6], k[0, 7], k[0, 8])
     kx = (k[1, 0], k[1, 1], k[1, 2], k[1, 3], k[1, 4], k[1, 5], k[1, 6], k[1, 7], k[1, 8])

@@ -22,7 +22,7 @@ import numba
 import numpy as np
 
 from intrusim._checks import InputError, finite, non_negative
-from intrusim._traction import element_force, fit_rows
+from intrusim._traction import alpha_constants, element_force, fit_rows
 from intrusim.geometry import Shape, SurfaceElements
 from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.bulldozing import bulldozing_scale, bulldozing_wrench
@@ -50,28 +50,6 @@ class ForceModel(Protocol):
         ...
 
 
-@numba.njit(cache=True)
-def _alpha_unit(c2b: float, s2b: float, cg: float, sg: float, coef: np.ndarray) -> tuple[float, float]:
-    """alpha_x, alpha_z of the Li (2013) fit from cos/sin of 2 beta and gamma (fitted range).
-
-    coef[k, m + 1, n] holds A, B, C, D; the fit is a sum over m in {-1, 0, 1}, n in {0, 1} of
-    cos/sin(2 m beta + n gamma), expanded with the angle-addition formulas.
-    """
-    az = 0.0
-    ax = 0.0
-    for mi in range(3):
-        m = mi - 1
-        cm, sm = (c2b, m * s2b) if m != 0 else (1.0, 0.0)  # cos/sin(2 m beta), m = +-1 or 0
-        for n in range(2):
-            if n == 0:
-                ca, sa = cm, sm
-            else:
-                ca, sa = cm * cg - sm * sg, sm * cg + cm * sg
-            az += coef[0, mi, n] * ca + coef[1, mi, n] * sa
-            ax += coef[2, mi, n] * ca + coef[3, mi, n] * sa
-    return ax, az
-
-
 CHUNK = 16  # elements per culling chunk of the compiled kernel (consecutive elements of the outline)
 
 
@@ -90,29 +68,6 @@ def chunk_bounds(mid: np.ndarray, chunk: int = CHUNK) -> tuple[np.ndarray, np.nd
     r = np.sqrt(((pad - cen[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
     rad = r * (1.0 + 1e-9) + 1e-12 * (1.0 + np.abs(pad).max(axis=(1, 2)))
     return cen, rad
-
-
-@numba.njit(cache=True)
-def _alpha_consts(coef: np.ndarray) -> np.ndarray:
-    """(2, 9) constants of :func:`_alpha_unit` collected by powers of cos/sin 2 beta.
-
-    With P_m = A[m,0] + A[m,1] cg + B[m,1] sg and Q_m = B[m,0] - A[m,1] sg + B[m,1] cg,
-    alpha_z = c2b (P_-1 + P_1) + P_0 + s2b (Q_1 - Q_-1); row 0 holds the factors of alpha_z
-    (A, B), row 1 those of alpha_x (C, D), each as [c2b: 1, cg, sg | 1: 1, cg, sg | s2b: 1, cg, sg].
-    """
-    out = np.empty((2, 9))
-    for r in range(2):
-        a, b = coef[2 * r], coef[2 * r + 1]
-        out[r, 0] = a[0, 0] + a[2, 0]
-        out[r, 1] = a[0, 1] + a[2, 1]
-        out[r, 2] = b[0, 1] + b[2, 1]
-        out[r, 3] = a[1, 0]
-        out[r, 4] = a[1, 1]
-        out[r, 5] = b[1, 1]
-        out[r, 6] = b[2, 0] - b[0, 0]
-        out[r, 7] = b[2, 1] - b[0, 1]
-        out[r, 8] = a[0, 1] - a[2, 1]
-    return out
 
 
 @numba.njit(cache=True, inline="always")
@@ -205,7 +160,7 @@ def _wrench_kernel(
         if phi_mid > -np.pi:
             p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
     # pass 2: forces of the candidates, in element order
-    kz, kx = fit_rows(_alpha_consts(coef))
+    kz, kx = fit_rows(alpha_constants(coef))
     fx = 0.0
     fz = 0.0
     mom = 0.0

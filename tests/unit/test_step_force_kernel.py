@@ -36,7 +36,7 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, _, _ = spec  # no bulldozing term here
     n_el = mid.shape[0]
     geo, lead, work = np.empty((jit.GEO_ROWS, n_el)), np.empty((jit.GEO_ROWS, n_el)), np.empty((3, n_el))
-    k = jit._alpha_consts(coef)
+    k = jit.alpha_constants(coef)
     rng = np.random.default_rng(1)
     dt, slack = 0.01, 0.02
     used = {"lead": 0, "all": 0, "kernel": 0}
