@@ -316,7 +316,7 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
 
 def test_wheel_run_follows_the_one_point_run():
     # the coarse wheel, 1500 steps (spin-up, sinking, rolling): the two kernels' runs differ as
-    # rounding grows. Measured with the particle blocks (session 48): 6.9e-10 m in the wheel's height
+    # rounding grows. Measured with the particle blocks: 6.9e-10 m in the wheel's height
     # and 6e-8 m in a point's position up to step 1056, where one point's density reaches rho_c one
     # step apart in the two runs (a rounding tie; the law is stress-free below rho_c), then 4.9e-7 m
     # and 2.9e-6 m at step 1500 (7.7e-7 m and 2.3e-6 m at step 1250)
