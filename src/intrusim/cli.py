@@ -268,7 +268,7 @@ def calibrate(
             (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
             s = with_rft_table(load_scenario(name), rft_coefficients)
             if structural is not None and not (check and s.force_model.structural == "none"):
-                s = s.model_copy(update=dict(force_model=s.force_model.validated_copy(structural=structural)))
+                s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
             return with_mpm_push(s) if mpm_push else s
 
         start = prepared(scenario)

@@ -158,11 +158,9 @@ def paper_settings(body: str) -> MPMSettings:
 def quick_settings(body: str) -> MPMSettings:
     """A coarse, short version of :func:`paper_settings` (2 cm cells, 1.2 s): trends in seconds."""
     long = body == "runner"
-    return paper_settings(body).model_copy(
-        update=dict(
-            domain=(2.0 if long else 1.0, 0.5), cells=(100 if long else 50, 25), bed_depth=0.25, t_max=1.2,
-            ramp_time=0.1, settle_time=0.5, start_x=0.16,
-        )
+    return paper_settings(body).validated_copy(
+        domain=(2.0 if long else 1.0, 0.5), cells=(100 if long else 50, 25), bed_depth=0.25, t_max=1.2,
+        ramp_time=0.1, settle_time=0.5, start_x=0.16,
     )  # fmt: skip
 
 
