@@ -92,6 +92,9 @@ def check_mpm_geometry(cfg: Any) -> None:
     """Raise ValueError naming the first bad polygon of an MPMConfig (intruders in their initial
     pose, obstacles, bed polygons): not simple, zero area, or not inside the box."""
     lx, lz = cfg.domain.size
+    if cfg.contact_band_cells > min(cfg.domain.cells):  # every node would be in contact: the body fills the box
+        raise ValueError(f"contact_band_cells: {cfg.contact_band_cells:g} cells is wider than the grid "
+                         f"({cfg.domain.cells[0]} x {cfg.domain.cells[1]} cells)")
     items = [(f"intruders.{k}.vertices", ic.vertices, (ic.x, ic.z, ic.theta)) for k, ic in enumerate(cfg.intruders)]
     items += [(f"obstacles.{k}.vertices", o.vertices, None) for k, o in enumerate(cfg.obstacles)]
     items += [(f"bed.polygons.{k}", p, None) for k, p in enumerate(cfg.bed.polygons)]
