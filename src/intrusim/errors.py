@@ -62,10 +62,11 @@ def classify(err: BaseException) -> tuple[int, str]:
 
     from pydantic import ValidationError
 
-    try:
-        from intrusim.mpm.diagnostics import SimulationError
-    except Exception:  # pragma: no cover - taichi missing
-        SimulationError = RunFailed  # noqa: N806
+    import sys
+
+    # a SimulationError exists only once the solver's module is loaded (importing it starts Taichi)
+    diagnostics = sys.modules.get("intrusim.mpm.diagnostics")
+    SimulationError = getattr(diagnostics, "SimulationError", RunFailed)  # noqa: N806
     if isinstance(err, ValidationError):
         return EXIT_BAD_INPUT, validation_message(err)
     if isinstance(err, (RunFailed, SimulationError)):
