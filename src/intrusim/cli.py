@@ -258,6 +258,10 @@ def calibrate(
     from intrusim.scenarios import load_scenario
 
     try:
+        import os
+
+        if workers > (os.cpu_count() or 1):
+            raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
         names = [p.strip() for p in params.split(",") if p.strip()]
         if psi_from_dh not in ("none", "linear", "affine"):
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")

@@ -99,6 +99,7 @@ def test_1_sweep_workers_below_one_or_above_the_cores_are_refused(tmp_path):
     _refused(_run("mpm", "sweep", "--quick", "--out", tmp_path, "--workers", "0"), "--workers")
     many = (os.cpu_count() or 1) + 1
     _refused(_run("mpm", "sweep", "--quick", "--out", tmp_path, "--workers", many), "--workers", str(many), "cores")
+    _refused(_run("calibrate", "wheel", "--mpm", tmp_path / "x.csv", "--workers", many), "--workers", str(many), "cores")
 
 
 @pytest.mark.parametrize("old,new", [
