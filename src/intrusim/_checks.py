@@ -7,9 +7,7 @@ from typing import Any
 
 import numpy as np
 
-
-class InputError(ValueError):
-    """A user-supplied value is invalid; the message names the parameter and the value."""
+from intrusim.errors import InputError  # noqa: F401 - kept importable from here (one class)
 
 
 def finite(name: str, value: Any) -> float:

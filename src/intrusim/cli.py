@@ -10,19 +10,34 @@ import numpy as np
 import typer
 
 from intrusim import __version__
-from intrusim._checks import InputError
+from intrusim._checks import InputError, finite
+from intrusim.errors import guarded_group
 from intrusim.forces import make_force_model
 from intrusim.geometry import grousered_wheel
 from intrusim.kinematics import BodyState
 from intrusim.params import RPM, table_s1
 
-app = typer.Typer(help="intrusim: granular intrusion with MPM, RFT and Dynamic RFT.", no_args_is_help=True)
+app = typer.Typer(help="intrusim: granular intrusion with MPM, RFT and Dynamic RFT.", no_args_is_help=True,
+                  cls=guarded_group())
 
+
+def _show_version(value: bool) -> None:
+    if value:
+        typer.echo(__version__)
+        raise typer.Exit()
 
 
 @app.callback()
-def main() -> None:
-    """Granular intrusion toolkit (Agarwal, Karsai, Goldman, Kamrin 2021)."""
+def main(
+    ctx: typer.Context,
+    debug: bool = typer.Option(False, "--debug", help="On an error show the traceback, not one line."),
+    version: bool = typer.Option(False, "--version", callback=_show_version, is_eager=True, help="Print the version and exit."),
+) -> None:
+    """Granular intrusion toolkit (Agarwal, Karsai, Goldman, Kamrin 2021).
+
+    Exit codes: 0 done; 1 the run failed (its diagnosis printed, its run folder and checkpoint kept);
+    2 bad input, refused before any compute (one line naming the field and the value)."""
+    ctx.ensure_object(dict)["debug"] = debug
 
 
 @app.command()
@@ -42,7 +57,11 @@ def forces(
     try:
         if omega_rpm <= 0 or not np.isfinite(omega_rpm):
             raise InputError(f"omega_rpm must be > 0, got {omega_rpm}")
-        depths = [float(s) * 1e-3 for s in sinkage_mm.split(",") if s.strip()]
+        finite("--slip", slip)
+        finite("--lam", lam)
+        depths = [finite("--sinkage-mm", s) * 1e-3 for s in sinkage_mm.split(",") if s.strip()]
+        if not depths:
+            raise InputError(f"--sinkage-mm needs at least one number, got {sinkage_mm!r}")
         wheel_cfg = table_s1()["grousered_wheel"]
         true_wheel = grousered_wheel()
         wheel = grousered_wheel(grouser_height_scale=1 / 3)  # grouser shadowing (paper, Methods)
@@ -113,19 +132,31 @@ def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
     from intrusim.laws.rft import load_coefficients
 
     load_coefficients(path)
-    fm = scn.force_model.model_copy(update={"rft_coefficients": str(path), "xi": 1.0})
-    return scn.model_copy(update={"force_model": fm})
+    fm = scn.force_model.validated_copy(rft_coefficients=str(path), xi=1.0)
+    return scn.validated_copy(force_model=fm)
+
+
+MAX_POINTS = 10_000  # omegas of one sweep
 
 
 def _parse_rpm(text: str) -> list[float]:
-    """'10,30,90' or 'start:stop:step' (inclusive stop) -> RPM list."""
+    """'10,30,90' or 'start:stop:step' (inclusive stop) -> RPM list of finite numbers."""
     try:
         if ":" in text:
             a, b, c = (float(x) for x in text.split(":"))
-            return list(np.arange(a, b + 0.5 * c, c))
-        return [float(x) for x in text.split(",") if x.strip()]
-    except ValueError:
+            if not all(math.isfinite(x) for x in (a, b, c)) or c <= 0 or b < a:
+                raise InputError(f"omega range start:stop:step needs finite numbers, step > 0 and stop >= start, got {text!r}")
+            if (b - a) / c + 1 > MAX_POINTS:
+                raise InputError(f"omega range {text!r} has {(b - a) / c + 1:.3g} points, more than {MAX_POINTS}")
+            return [float(w) for w in np.arange(a, b + 0.5 * c, c)]
+        out = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError as err:
+        if isinstance(err, InputError):
+            raise
         raise InputError(f"omega list must be 'a,b,c' or 'start:stop:step' (RPM), got {text!r}") from None
+    if not all(math.isfinite(w) for w in out):
+        raise InputError(f"omega list must hold finite numbers, got {text!r}")
+    return out
 
 
 @app.command()
@@ -227,6 +258,10 @@ def calibrate(
     from intrusim.scenarios import load_scenario
 
     try:
+        import os
+
+        if workers > (os.cpu_count() or 1):
+            raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
         names = [p.strip() for p in params.split(",") if p.strip()]
         if psi_from_dh not in ("none", "linear", "affine"):
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
@@ -237,11 +272,11 @@ def calibrate(
             (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
             s = with_rft_table(load_scenario(name), rft_coefficients)
             if structural is not None and not (check and s.force_model.structural == "none"):
-                s = s.model_copy(update=dict(force_model=s.force_model.validated_copy(structural=structural)))
+                s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
             return with_mpm_push(s) if mpm_push else s
 
         start = prepared(scenario)
-        ref = load_reference(mpm, start.name, settled_only=settled_only)
+        ref = _unique_omegas(check_reference(load_reference(mpm, start.name, settled_only=settled_only)), mpm)
         psi_values: dict[str, float] = {}  # set from the calibrated scenario's rear drop, reused by the checks
         if psi_from_dh != "none":
             psi = psi_from_surface_drop(start, ref)
@@ -260,7 +295,7 @@ def calibrate(
             s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
             try:  # a bad check is refused before the fit, not after it
-                checks.append(Check(label.strip(), s, check_reference(load_reference(path.strip(), s.name))))
+                checks.append(Check(label.strip(), s, _unique_omegas(check_reference(load_reference(path.strip(), s.name)), path.strip())))
             except ValueError as err:
                 raise InputError(f"--check {label.strip()}: {err}") from None
         res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
@@ -287,6 +322,16 @@ def calibrate(
                    f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
         typer.echo(str(p))
+
+
+def _unique_omegas(ref: Any, source: Any) -> Any:
+    """``ref`` (a reference sweep) if each of its omegas appears once; else an InputError, before any fit."""
+    w = [float(x) for x in ref.omega_rpm]
+    twice = sorted({x for x in w if w.count(x) > 1})
+    if twice:
+        raise InputError(f"{source}: omega_rpm {', '.join(f'{x:g}' for x in twice)} appears more than once "
+                         "(one run per omega: gather them with `intrusim mpm collect`)")
+    return ref
 
 
 def _pct(x: float, sign: str = "+") -> str:

@@ -2,91 +2,122 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
 
 from intrusim._checks import InputError
+from intrusim.errors import guarded_group, validation_message
 
-mpm_app = typer.Typer(help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True)
+mpm_app = typer.Typer(help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True,
+                      cls=guarded_group())
 
 SCENARIOS = ("wheel", "small-wheel", "runner")
+
+
+def _finite(name: str, value: float | None) -> float | None:
+    """A flag's number: None (not given) or finite (an InputError names the flag)."""
+    if value is not None and not math.isfinite(value):
+        raise InputError(f"--{name.replace('_', '-')} must be a finite number, got {value!r}")
+    return value
+
+
+def _validated(model, **update):
+    """``model`` with ``update``, validated as the files are (a flag's bad value names the setting)."""
+    from pydantic import ValidationError
+
+    try:
+        return model.validated_copy(**update)
+    except ValidationError as err:
+        raise InputError(validation_message(err)) from None
 
 
 def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
           cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
           t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
           treadmill: str | None = None, arch: str | None = None, flip: float | None = None,
-          shape: str | None = None, drop_escaped: bool = False):
+          shape: str | None = None, drop_escaped: bool = False, max_steps: int | None = None):
+    """The MPM locomotion case of the command's flags: every flag goes through the settings'
+    validation (MPMSettings, as a file's), so a bad value is refused before any compute."""
     from intrusim.mpm.config import SHAPES, FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
+    for name, value in (("frames_every", frames_every), ("cell_size", cell_size), ("contact_band", contact_band),
+                        ("length", length), ("t_max", t_max), ("mu_i_diameter", mu_i_diameter),
+                        ("fluidity_diameter", fluidity_diameter), ("flip", flip)):
+        _finite(name, value)
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
-    settings = settings.model_copy(update=dict(frames_every=frames_every, cpu_threads=threads))
+    update: dict = {"frames_every": frames_every, "cpu_threads": threads}
+    if max_steps is not None:
+        update["max_steps"] = max_steps
     if arch is not None:
         from intrusim.mpm.backend import ARCHES
 
         if arch not in ARCHES:
             raise InputError(f"arch must be one of {', '.join(ARCHES)}, got {arch!r}")
-        settings = settings.model_copy(update=dict(arch=arch))
+        update["arch"] = arch
+    domain, cells = settings.domain, settings.cells
     if length is not None:  # same cells, a shorter or longer bed
         if not length > settings.start_x + settings.wall_margin:
             raise InputError(f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}")
-        settings = settings.model_copy(update=dict(domain=(float(length), settings.domain[1]),
-                                                   cells=(max(1, round(length / settings.h)), settings.cells[1])))
+        domain, cells = (float(length), domain[1]), (max(1, round(length / settings.h)), cells[1])
     if cell_size is not None:
         if not cell_size > 0:
             raise InputError(f"cell_size must be > 0 m, got {cell_size!r}")
-        cells = tuple(max(1, round(d / cell_size)) for d in settings.domain)
-        settings = settings.model_copy(update=dict(cells=cells))
+        cells = tuple(max(1, round(d / cell_size)) for d in domain)
+    update.update(domain=domain, cells=cells)
     if contact_band is not None:
         if not contact_band >= 0:
             raise InputError(f"contact_band must be >= 0 cells, got {contact_band!r}")
-        settings = settings.model_copy(update=dict(contact_band_cells=float(contact_band)))
+        update["contact_band_cells"] = float(contact_band)
     if flip is not None:
         if not 0.0 <= flip <= 1.0:
             raise InputError(f"flip must be in [0, 1], got {flip!r}")
-        settings = settings.model_copy(update=dict(flip=float(flip)))
+        update["flip"] = float(flip)
     if shape is not None:
         if shape not in SHAPES:
             raise InputError(f"shape must be {' or '.join(SHAPES)}, got {shape!r}")
-        settings = settings.model_copy(update=dict(shape=shape))
+        update["shape"] = shape
     if drop_escaped:
-        settings = settings.model_copy(update=dict(drop_escaped=True))
+        update["drop_escaped"] = True
     if t_max is not None:
         if not t_max > settings.ramp_time + settings.settle_time:
             raise InputError(f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}")
-        settings = settings.model_copy(update=dict(t_max=float(t_max)))
+        update["t_max"] = float(t_max)
     if mu_i_diameter is not None:
         if not mu_i_diameter > 0:
             raise InputError(f"mu_i_diameter must be > 0 m, got {mu_i_diameter!r}")
-        settings = settings.model_copy(update=dict(mu_i=MuIConfig(grain_diameter=float(mu_i_diameter))))
+        update["mu_i"] = MuIConfig(grain_diameter=float(mu_i_diameter)).model_dump()
     if fluidity_diameter is not None:
         if not fluidity_diameter > 0:
             raise InputError(f"fluidity_diameter must be > 0 m, got {fluidity_diameter!r}")
         if mu_i_diameter is not None:
             raise InputError("give one of mu_i_diameter and fluidity_diameter, not both")
-        settings = settings.model_copy(update=dict(fluidity=FluidityConfig(grain_diameter=float(fluidity_diameter))))
-    if treadmill is not None:  # validated with the rest of the settings (model_copy does not validate)
-        from pydantic import ValidationError
-
+        update["fluidity"] = FluidityConfig(grain_diameter=float(fluidity_diameter)).model_dump()
+    if treadmill is not None:
         x = _numbers(treadmill, "treadmill")
         if len(x) != 2:
             raise InputError(f"treadmill takes X_TRIGGER,X_TARGET (two numbers, m), got {treadmill!r}")
         try:
-            settings = settings.validated_copy(treadmill=tuple(x))
-        except ValidationError as err:
-            raise InputError(f"bad treadmill: {err.errors()[0]['msg']}") from None
+            settings = _validated(settings, **update, treadmill=tuple(x))
+        except InputError as err:
+            raise InputError(f"bad treadmill: {err}") from None
+    else:
+        settings = _validated(settings, **update)
     return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
 
 
 def _numbers(text: str, what: str) -> list[float]:
     try:
-        return [float(s) for s in text.split(",") if s.strip()]
+        out = [float(s) for s in text.split(",") if s.strip()]
     except ValueError:
         raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
+    if not out or not all(math.isfinite(x) for x in out):
+        raise InputError(f"{what} must be comma-separated finite numbers, got {text!r}")
+    return out
 
 
 def _rpms(text: str) -> list[float]:
@@ -112,11 +143,13 @@ def steady(
     flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
     drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
+    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
         case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
-                     drop_escaped)
+                     drop_escaped, max_steps)
+        _finite("omega_rpm", omega_rpm)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -125,16 +158,21 @@ def steady(
                 last[0] = d["t"]
                 typer.echo(f"  t = {d['t']:.2f} s  x = {d['x']:.3f} m  vx = {d['vx']:.3f} m/s  wall {d['wall']:.0f} s")
 
+        from intrusim.mpm.io import run_lock, safe_child
         from intrusim.scenarios.mpm_locomotion import run_mpm_steady, write_result
 
-        run_dir = None
-        if out is not None:
-            run_dir = Path(out) / f"{case.scenario.name}_{omega_rpm:g}rpm"
-            run_dir.mkdir(parents=True, exist_ok=True)
-        st = run_mpm_steady(case.scenario, case.mpm, omega_rpm, run_dir, progress)
-        if run_dir is not None:  # finished: a sweep or figure on this folder reuses it
-            write_result(run_dir, st)
-    except (InputError, ValueError) as err:
+        run_dir = None if out is None else safe_child(out, f"{case.scenario.name}_{omega_rpm:g}rpm")
+        with run_lock(run_dir):  # one writer per run folder
+            if run_dir is not None:  # a result.json is true of the run that wrote it: gone until this one ends
+                from intrusim.mpm.solver import refuse_other_run
+                from intrusim.scenarios.mpm_locomotion import mpm_config
+
+                refuse_other_run(run_dir, mpm_config(case.scenario, case.mpm, omega_rpm, run_dir))  # before touching it
+                (run_dir / "result.json").unlink(missing_ok=True)
+            st = run_mpm_steady(case.scenario, case.mpm, omega_rpm, run_dir, progress)
+            if run_dir is not None:  # finished: a sweep or figure on this folder reuses it
+                write_result(run_dir, st)
+    except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
     typer.echo(
@@ -165,24 +203,42 @@ def sweep(
     flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
     drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
+    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
+    oversubscribe: bool = typer.Option(False, "--oversubscribe", help="Allow more --workers than this machine's cores."),
 ) -> None:
-    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table."""
+    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table.
+    Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
     from intrusim.analysis.sweep import sweep_omega
 
+    from intrusim.mpm.io import safe_child
+
     try:
-        threads = max(1, (os.cpu_count() or 1) // max(workers, 1)) if not serial else None
+        cores = os.cpu_count() or 1
+        if workers < 1:
+            raise InputError(f"--workers must be >= 1, got {workers}")
+        if workers > cores and scheduler is None and not serial and not oversubscribe:
+            raise InputError(f"--workers {workers} is more than this machine's {cores} cores "
+                             "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)")
+        threads = max(1, cores // workers) if not serial else None
         case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
-                     drop_escaped)
+                     drop_escaped, max_steps)
+        omegas = _rpms(omega_rpm)
+        csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
+        for w in omegas:  # the run folders' names, checked before any compute
+            case.run_dir(w)
         out.mkdir(parents=True, exist_ok=True)
-        res = sweep_omega(case, "mpm", _rpms(omega_rpm), parallel=not serial, scheduler_address=scheduler, n_workers=workers)
-    except (InputError, ValueError) as err:
+    except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
-    path = res.to_csv(out / f"{case.scenario.name}_mpm_sweep.csv")
+    res = sweep_omega(case, "mpm", omegas, parallel=not serial, scheduler_address=scheduler, n_workers=workers)
+    path = res.to_csv(csv_path)
     typer.echo(res.table())
     typer.echo(f"wrote {path}")
+    if res.errors:
+        typer.echo(f"error: {len(res.errors)} of {len(res.records)} points failed (see the table)", err=True)
+        raise typer.Exit(1)
 
 
 @mpm_app.command("collect")
@@ -201,6 +257,8 @@ def collect(
     from intrusim.analysis.sweep import SweepResult, steady_record
     from intrusim.scenarios.mpm_locomotion import load_result
 
+    _finite("from", window_from)
+    _finite("last", last)
     if last is not None and (window_from is not None or not last > 0):
         typer.echo("error: --last must be > 0 and cannot be given with --from", err=True)
         raise typer.Exit(2)
@@ -248,14 +306,17 @@ def movie(
     typer.echo(f"wrote {path}")
 
 
-def _progress_bar(total: float):
-    """A tqdm bar over physical time, updated at each record (a callback for ``Solver.run``)."""
+def _progress_bar(total: float, start: float = 0.0):
+    """A tqdm bar over physical time, updated at each record (a callback for ``Solver.run``); its
+    count never passes its total (the last step may end a fraction of dt past t_end)."""
     from tqdm import tqdm
 
-    bar = tqdm(total=round(total, 6), unit="s(sim)", desc="MPM", bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+    total = round(total, 6)
+    bar = tqdm(total=total, initial=min(round(start, 6), total), unit="s(sim)", desc="MPM",
+               bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
 
     def update(solver) -> None:
-        bar.update(round(solver.t - bar.n, 9))
+        bar.update(max(0.0, min(round(solver.t, 9), total) - bar.n))
 
     return bar, update
 
@@ -263,11 +324,12 @@ def _progress_bar(total: float):
 def _run_solver(solver, t_end: float) -> None:
     from intrusim.mpm.diagnostics import SimulationError
 
-    bar, update = _progress_bar(t_end)
+    bar, update = _progress_bar(t_end, solver.t)
     try:
         solver.run(t_end=t_end, progress=update, checkpoint_end=False)  # the end state below, with or without a schedule
         update(solver)
     except SimulationError as err:
+        bar.close()  # the error on its own line, not at the end of the bar's
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(1) from None
     finally:
@@ -287,6 +349,7 @@ def _run_solver(solver, t_end: float) -> None:
 def run(
     config: Path = typer.Argument(..., help="MPM configuration, TOML (any MPMConfig field; see docs/mpm.md)."),
     out: Path = typer.Option(None, help="Run folder (overrides output.directory of the file)."),
+    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps the run may take (overrides time.max_steps, default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
 ) -> None:
     """Run an MPM simulation from a configuration file (validated before any compute).
 
@@ -297,28 +360,31 @@ def run(
     from pydantic import ValidationError
 
     from intrusim.mpm.config import MPMConfig
+    from intrusim.mpm.io import run_lock
 
+    if not config.is_file():
+        raise InputError(f"no such file: {config}" if not config.exists() else f"{config} is not a file")
     try:
         data = tomllib.loads(config.read_text())
+        if out is not None:
+            data = {**data, "output": {**data.get("output", {}), "directory": str(out)}}
+        if max_steps is not None:
+            data = {**data, "time": {**data.get("time", {}), "max_steps": max_steps}}
         cfg = MPMConfig.model_validate(data)
-    except FileNotFoundError:
-        typer.echo(f"error: no such file: {config}", err=True)
-        raise typer.Exit(2) from None
-    except (tomllib.TOMLDecodeError, ValidationError) as err:
-        typer.echo(f"error: invalid configuration {config}:\n{err}", err=True)
-        raise typer.Exit(2) from None
-    if out is not None:
-        cfg.output.directory = str(out)
+    except UnicodeDecodeError:
+        raise InputError(f"invalid configuration {config}: not a text (TOML) file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"invalid configuration {config}: {err}") from None
+    except ValidationError as err:
+        raise InputError(f"invalid configuration {config}: {validation_message(err)}") from None
     from intrusim.mpm.solver import Solver
 
-    try:
+    run_dir = None if cfg.output.directory is None else Path(cfg.output.directory)
+    with run_lock(run_dir):  # one writer per run folder
         solver = Solver(cfg)
         if solver.continue_in_run_dir():
             typer.echo(f"continuing {solver.run_dir} from its checkpoint at t = {solver.t:.4g} s (step {solver.step_count})")
-    except (InputError, ValueError) as err:
-        typer.echo(f"error: {err}", err=True)
-        raise typer.Exit(2) from None
-    _run_solver(solver, cfg.time.t_end)
+        _run_solver(solver, cfg.time.t_end)
 
 
 @mpm_app.command("resume")
@@ -327,13 +393,23 @@ def resume(
     t_end: float = typer.Option(None, help="New end time, s (default: the configured one)."),
 ) -> None:
     """Continue an interrupted (or finished) run from its last checkpoint."""
+    from intrusim.mpm.io import run_lock
     from intrusim.mpm.solver import Solver
+    from intrusim.validation import check_run_size
 
-    if not (run_dir / "config.json").exists():
-        typer.echo(f"error: {run_dir} has no config.json (not a run folder)", err=True)
-        raise typer.Exit(2)
-    solver = Solver.resume(run_dir)
-    typer.echo(f"resuming {run_dir} at t = {solver.t:.4g} s (step {solver.step_count})")
-    if t_end is not None and t_end > solver.cfg.time.t_end:
-        solver.cfg.time.t_end = t_end  # config.json records the run's new end
-    _run_solver(solver, t_end if t_end is not None else solver.cfg.time.t_end)
+    if not (run_dir / "config.json").is_file():
+        raise InputError(f"{run_dir} has no config.json (not a run folder)")
+    if (run_dir / "locomotion.json").exists():  # its result.json, progress.json and fields are kept by `mpm steady`
+        raise InputError(f"{run_dir} is an `mpm steady` / `mpm sweep` run: go on with the same command and a larger "
+                         "--t-max on its --out folder, which keeps its result consistent")
+    if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"--t-end must be a finite time > 0 s, got {t_end!r}")
+    with run_lock(run_dir):
+        solver = Solver.resume(run_dir)
+        end = t_end if t_end is not None else solver.cfg.time.t_end
+        if end > solver.cfg.time.t_end:
+            time = solver.cfg.time.model_copy(update={"t_end": end})
+            check_run_size(solver.cfg.model_copy(update={"time": time}), solver.dt)
+            solver.cfg.time.t_end = end  # config.json records the run's new end
+        typer.echo(f"resuming {run_dir} at t = {solver.t:.4g} s (step {solver.step_count})")
+        _run_solver(solver, end)

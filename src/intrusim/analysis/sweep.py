@@ -19,19 +19,24 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from intrusim._checks import InputError
+from intrusim.errors import PROGRAMMING_ERRORS
 from intrusim.analysis.steady import run_steady
 
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
 
 def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -> dict[str, Any]:
-    """One steady state as a flat record; failures are caught and described, never raised."""
+    """One steady state as a flat record; failures of the point (bad input, a guard, no contact, a
+    full disk) are caught and described; a programming error (:data:`~intrusim.errors.PROGRAMMING_ERRORS`)
+    is raised, never turned into a data row."""
     rec: dict[str, Any] = {"omega_rpm": omega_rpm, "ok": False, "error": ""}
     try:
         # a scenario may carry its own runner (MPMLocomotion: the continuum solver)
         runner = getattr(scenario, "run_steady", None)
         st = runner(kind, omega_rpm, lam) if runner is not None else run_steady(scenario, kind, omega_rpm, lam)
     except Exception as err:  # noqa: BLE001 - one bad point must not sink the sweep
+        if isinstance(err, PROGRAMMING_ERRORS):
+            raise
         rec["error"] = f"{type(err).__name__}: {err}"
         return rec
     return steady_record(omega_rpm, st)
@@ -81,14 +86,19 @@ class SweepResult:
     def to_csv(self, path: str | Path) -> Path:
         """Write the records: the standard FIELDS first, then any model-specific ones (e.g. MPM's
         rear surface drop and wall time)."""
+        import io
+
+        from intrusim.mpm.io import atomic_write_bytes
+
         p = Path(path)
         extra = sorted({k for r in self.records for k in r} - set(FIELDS))
         names = list(FIELDS) + extra
-        with p.open("w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=names, extrasaction="ignore")
-            w.writeheader()
-            for r in self.records:
-                w.writerow({k: r.get(k, "") for k in names})
+        buf = io.StringIO(newline="")
+        w = csv.DictWriter(buf, fieldnames=names, extrasaction="ignore")
+        w.writeheader()
+        for r in self.records:
+            w.writerow({k: r.get(k, "") for k in names})
+        atomic_write_bytes(p, buf.getvalue().encode())  # a killed sweep leaves the old CSV or the new one
         return p
 
     @classmethod
@@ -168,6 +178,14 @@ def _bar(total: int, enabled: bool, desc: str = "omega sweep") -> Any:
     return tqdm(total=total, disable=not enabled, desc=desc, leave=False)
 
 
+def _error_record(omega_rpm: float, err: Exception) -> dict[str, Any]:
+    """A point whose task failed on the cluster (a lost worker, a failure of the point) as an error
+    record; a programming error is raised."""
+    if isinstance(err, PROGRAMMING_ERRORS):
+        raise err
+    return {"omega_rpm": omega_rpm, "ok": False, "error": f"{type(err).__name__}: {err}"}
+
+
 def sweep_omega(
     scenario: Any,
     kind: str,
@@ -201,7 +219,7 @@ def sweep_omega(
         records = dask_map(
             sweep_point, [(scenario, kind, w, lam) for w in omegas], scheduler_address=scheduler_address,
             n_workers=n_workers, progress=progress, desc="omega sweep",
-            on_error=lambda i, err: {"omega_rpm": omegas[i], "ok": False, "error": f"{type(err).__name__}: {err}"},
+            on_error=lambda i, err: _error_record(omegas[i], err),
         )  # fmt: skip
     else:
         bar = _bar(len(omegas), progress)

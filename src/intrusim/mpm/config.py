@@ -13,11 +13,16 @@ from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from intrusim.validation import check_mpm_geometry, reject_bool_numbers
+
 Vec2 = tuple[float, float]
 
 
 class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=False)
+    # finite numbers only (inf and NaN are refused, naming the field); true/false are not numbers
+    model_config = ConfigDict(extra="forbid", frozen=False, allow_inf_nan=False)
+
+    _no_bool_numbers = model_validator(mode="before")(classmethod(reject_bool_numbers))
 
 
 class MuIConfig(_Model):
@@ -236,6 +241,10 @@ class TimeConfig(_Model):
         1.0, gt=0, description="m/s; dt <= max_cell_fraction h / v_max_expected"
     )
     dt: float | None = Field(None, gt=0, description="override dt, s (must satisfy both limits)")
+    max_steps: int = Field(
+        20_000_000, ge=1,
+        description="most time steps t_end / dt a run may take: a larger estimate is refused before any compute",
+    )
 
 
 Shape = Literal["quadratic", "linear"]  # shape functions of the transfers (TransferConfig.shape)
@@ -346,6 +355,7 @@ class MPMConfig(_Model):
         if self.bed.density_ratio < self.material.rho_floor_fraction:
             raise ValueError(f"bed.density_ratio {self.bed.density_ratio} is below material.rho_floor_fraction "
                              f"{self.material.rho_floor_fraction}: points would be compacted to the floor at once")
+        check_mpm_geometry(self)  # simple polygons of positive area, inside the box
         return self
 
     @classmethod

@@ -1,5 +1,7 @@
-"""Reductions over the material points: guards (NaN, escape, CFL) and global quantities."""
+"""Reductions over the material points: guards (NaN, escape, CFL) of the grains and of the rigid
+bodies, and global quantities."""
 
+import math
 
 import numpy as np
 import taichi as ti
@@ -75,4 +77,26 @@ def guard_report(out: np.ndarray, x: np.ndarray, v: np.ndarray, dt: float, h: fl
             f"CFL breach: max speed {vmax:.4g} m/s moves {vmax * dt / h:.3g} cells per step "
             f"(limit {max_cell_fraction}) at point {i}, x={x[i]}"
         )
+    return None
+
+
+def body_report(bodies, lx: float, lz: float, dt: float, h: float, max_cells_per_step: float = 1.0) -> str | None:
+    """Diagnosis text for a rigid body gone wrong, or None: a NaN/inf in its state, a body wholly
+    out of the box (through the floor, a wall or far above the open top), or a body moving more
+    than ``max_cells_per_step`` cells in a step (its contact would skip grid nodes). ``bodies``:
+    the solver's intruders (their ``state`` and body-frame ``contact.vertices``)."""
+    for k, body in enumerate(bodies):
+        st = body.state
+        values = st.as_dict()
+        bad = {n: v for n, v in values.items() if not math.isfinite(v)}
+        if bad:
+            return f"NaN/inf in body {k}'s state: " + ", ".join(f"{n}={v}" for n, v in bad.items())
+        radius = float(np.max(np.linalg.norm(np.asarray(body.contact.vertices, dtype=float), axis=1)))
+        if st.x + radius < 0.0 or st.x - radius > lx or st.z + radius < 0.0 or st.z - radius > lz:
+            return (f"body escape: body {k} left the box {lx:g} x {lz:g} m, at x={st.x:.4g} m, z={st.z:.4g} m, "
+                    f"v=({st.vx:.4g}, {st.vz:.4g}) m/s")
+        speed = math.hypot(st.vx, st.vz) + abs(st.omega) * radius
+        if speed * dt > max_cells_per_step * h:
+            return (f"body CFL breach: body {k} moves {speed * dt / h:.3g} cells per step (limit {max_cells_per_step:g}; "
+                    f"v=({st.vx:.4g}, {st.vz:.4g}) m/s, omega={st.omega:.4g} rad/s) at x={st.x:.4g} m, z={st.z:.4g} m")
     return None

@@ -34,11 +34,36 @@ def write_resolved_config(run_dir: Path, cfg: MPMConfig, extra: dict | None = No
     return path
 
 
+def _file_mode() -> int:
+    """The mode an ordinary new file gets here: 0o666 less the umask (mkstemp's files are 0o600)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+@contextmanager
+def atomic_path(path: Path):
+    """A temporary path in ``path``'s folder for a writer that takes a file name (meshio,
+    matplotlib); it replaces ``path`` (with an ordinary file mode) once the block ends without
+    error, and is removed on an error, so that ``path`` never holds a partial file."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, _file_mode())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
 @contextmanager
 def atomic_file(path: Path):
     """An open binary file in ``path``'s folder that replaces ``path`` once the block ends
-    without error (written, fsynced, renamed: atomic on POSIX); on an error it is removed and
-    ``path`` is left as it was."""
+    without error (written, fsynced, renamed: atomic on POSIX; the file gets an ordinary mode,
+    0o666 less the umask); on an error it is removed and ``path`` is left as it was."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
     try:
@@ -46,11 +71,76 @@ def atomic_file(path: Path):
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+LOCK = ".lock"  # in a run folder: held (flock) by the process writing the folder
+
+
+@contextmanager
+def run_lock(run_dir: Path | None):
+    """Hold the run folder's lock for the block: a second run on the same folder is refused
+    (InputError) instead of mixing its files with the first one's. On taking the lock, temporary
+    files a killed writer left (``*.tmp``) are removed. None: no folder, no lock."""
+    if run_dir is None:
+        yield
+        return
+    import fcntl
+
+    from intrusim.errors import InputError
+
+    run_dir = Path(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    fd = os.open(run_dir / LOCK, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise InputError(f"{run_dir} is in use by another run (its lock {LOCK} is held); wait for it, "
+                             "or choose another output folder") from None
+        for stale in list(run_dir.glob("*.tmp")) + list(run_dir.glob("*/*.tmp")):
+            stale.unlink(missing_ok=True)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def safe_child(root: str | Path, name: str) -> Path:
+    """``root / name`` for a name made from user input (a scenario's name): a plain file name,
+    never a path that leads out of ``root`` (InputError)."""
+    from intrusim.errors import InputError
+
+    if not name or name in (".", "..") or "/" in name or "\\" in name or "\0" in name or Path(name).name != name:
+        raise InputError(f"name {name!r} is not a plain file name: it would write outside {root}")
+    return Path(root) / name
+
+
+CONFIG_KEY_IGNORED = frozenset({"backend.cpu_threads", "output.directory", "time.t_end", "time.max_steps", "output.escaped"})
+
+
+def checkpoint_config(cfg: MPMConfig) -> dict:
+    """The configuration a checkpoint belongs to (stored in its meta, compared on loading)."""
+    return cfg.model_dump(mode="json")
+
+
+def checkpoint_mismatch(saved: dict | None, cfg: MPMConfig) -> list[str]:
+    """Dotted keys at which a checkpoint's configuration differs from ``cfg`` (the thread count,
+    the folder, the end time, the step limit and the escape policy are not differences: see
+    ``solver.refuse_other_run``); [] for a checkpoint that stores none (written by an older version)."""
+    if not saved:
+        return []
+    from .solver import config_differences
+
+    try:  # a setting added since is its default there
+        saved = MPMConfig.model_validate(saved).model_dump(mode="json")
+    except ValueError:
+        pass
+    return config_differences(saved, cfg.model_dump(mode="json"), ignore=set(CONFIG_KEY_IGNORED))
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> None:
@@ -71,16 +161,43 @@ def cached_json(path: Path, compute):
     return data
 
 
-def save_checkpoint(path: Path, arrays: dict[str, np.ndarray], meta: dict) -> None:
-    """Atomic .npz checkpoint: particle arrays plus a JSON ``meta`` entry."""
+def nonfinite_entries(arrays: dict[str, np.ndarray], meta: dict) -> list[str]:
+    """Names of the float arrays, and of the bodies' state entries in ``meta``, holding NaN or inf."""
+    bad = [k for k, a in arrays.items() if np.asarray(a).dtype.kind == "f" and not np.all(np.isfinite(a))]
+    for k, body in enumerate(meta.get("bodies", []) or []):
+        bad += [f"bodies.{k}.{n}" for n, v in body.items() if isinstance(v, float) and not np.isfinite(v)]
+    return bad
+
+
+def save_checkpoint(path: Path, arrays: dict[str, np.ndarray], meta: dict, require_finite: bool = True) -> None:
+    """Atomic .npz checkpoint: particle arrays plus a JSON ``meta`` entry. With ``require_finite``
+    (the default) a state holding NaN or inf is not written (SimulationError): a resumed run must
+    never start from a broken state; a failure checkpoint (kept for the diagnosis) passes False."""
+    if require_finite:
+        bad = nonfinite_entries(arrays, meta)
+        if bad:
+            from .diagnostics import SimulationError
+
+            raise SimulationError(f"checkpoint {path} not written: NaN/inf in {', '.join(bad[:5])}")
     with atomic_file(path) as fh:
         np.savez(fh, meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8), **arrays)
 
 
 def load_checkpoint(path: Path) -> tuple[dict[str, np.ndarray], dict]:
-    with np.load(path) as z:
-        arrays = {k: z[k] for k in z.files if k != "meta"}
-        meta = json.loads(bytes(z["meta"]).decode())
+    """(arrays, meta) of a checkpoint written by :func:`save_checkpoint`; a file that is not one
+    (truncated, corrupt, another kind) is an InputError naming it."""
+    import zipfile
+
+    from intrusim.errors import InputError
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files if k != "meta"}
+            meta = json.loads(bytes(z["meta"]).decode())
+    except (ValueError, KeyError, EOFError, zipfile.BadZipFile, UnicodeDecodeError, AttributeError) as err:
+        raise InputError(f"{path} is not a readable checkpoint ({type(err).__name__}: {err})") from None
+    if not isinstance(meta, dict):
+        raise InputError(f"{path} is not a readable checkpoint (its meta is not a table)")
     return arrays, meta
 
 
@@ -114,7 +231,8 @@ def write_vtk(path: Path, fields: dict[str, np.ndarray]) -> None:
         if a.ndim == 2 and a.shape[1] == 2:  # in-plane vector -> 3 components
             a = np.column_stack([a[:, 0], np.zeros(len(a)), a[:, 1]])
         point_data[k] = np.ascontiguousarray(a, dtype=np.float64)
-    meshio.write(str(path), meshio.Mesh(points, cells, point_data=point_data), binary=True)
+    with atomic_path(path) as tmp:  # a full disk leaves no truncated file under the final name
+        meshio.write(str(tmp), meshio.Mesh(points, cells, point_data=point_data), file_format="vtu", binary=True)
 
 
 def write_bodies_vtk(path: Path, polygons: list[np.ndarray], cell_data: dict[str, list[float]]) -> None:
@@ -126,7 +244,8 @@ def write_bodies_vtk(path: Path, polygons: list[np.ndarray], cell_data: dict[str
     starts = np.cumsum([0] + [len(p) for p in polygons])
     cells = [("polygon", np.arange(a, b).reshape(1, -1)) for a, b in zip(starts[:-1], starts[1:])]
     data = {k: [np.array([v], dtype=np.float64) for v in vals] for k, vals in cell_data.items()}
-    meshio.write(str(path), meshio.Mesh(points, cells, cell_data=data), binary=True)
+    with atomic_path(path) as tmp:
+        meshio.write(str(tmp), meshio.Mesh(points, cells, cell_data=data), file_format="vtu", binary=True)
 
 
 def write_pvd(path: Path, entries: list[tuple[float, str, int]]) -> None:
@@ -166,5 +285,6 @@ def plot_field(path: Path, x: np.ndarray, value: np.ndarray, label: str,
     ax.set_xlabel("x (m)")
     ax.set_ylabel("z (m)")
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=130, format=Path(path).suffix.lstrip(".") or "png")
     plt.close(fig)

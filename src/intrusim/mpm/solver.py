@@ -20,7 +20,7 @@ from .config import MPMConfig, PrescribedMotion
 from .constitutive import NonlocalFluidity, material_from_config, pressure
 from .contact import PolygonContact
 from .diagnostics import (
-    SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
+    SimulationError, body_report, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
 from .grid import Grid, grid_update_kernel
@@ -30,6 +30,7 @@ from .step_graph import Launch, StepGraph, run_direct
 from .transfer import g2p_kernel, p2g_args, p2g_kernel
 from . import io as mpm_io
 from intrusim._checks import InputError
+from intrusim.validation import check_run_size
 
 FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's grid field
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
@@ -63,6 +64,8 @@ class Solver:
 
     def __init__(self, cfg: MPMConfig, particles: dict[str, np.ndarray] | None = None):
         self.cfg = cfg
+        limits = time_step_limits(cfg)  # the run's size (cells, steps) is refused here if beyond reach
+        check_run_size(cfg, cfg.time.dt or min(limits["dt_elastic"], limits["dt_motion"]))
         backend = ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
         chunks = cfg.backend.p2g_chunks if backend.arch == "cpu" else 1  # a GPU: P2G by atomics
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
@@ -195,15 +198,17 @@ class Solver:
         if out[0] == 0 and out[1] > 0 and self.cfg.output.escaped == "drop":
             self._drop_escaped(lx, lz, self.cfg.output.escape_margin_cells * self.h)
             out[1] = 0
-        if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
+        grains_ok = out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h
+        diag = body_report(self.intruders, lx, lz, self.dt, self.h)  # the bodies' guards: NaN, escape, CFL
+        if grains_ok and diag is None:
             return
-        p = self.particles
-        state = p.to_numpy(["x", "v"])
-        diag = guard_report(out, state["x"], state["v"], self.dt, self.h, self.cfg.time.max_cell_fraction)
+        if not grains_ok:
+            state = self.particles.to_numpy(["x", "v"])
+            diag = guard_report(out, state["x"], state["v"], self.dt, self.h, self.cfg.time.max_cell_fraction)
         where = ""
         if self.run_dir is not None:
             path = self.run_dir / "checkpoint_failure.npz"
-            self.save_checkpoint(path)
+            self.save_checkpoint(path, require_finite=False)  # the broken state itself, for the diagnosis
             where = f"; state saved to {path}"
         raise SimulationError(f"{diag} at t={self.t:.6g} s (step {self.step_count}){where}")
 
@@ -396,9 +401,11 @@ class Solver:
         """Save the state as the run folder's checkpoint, the one a resumed or extended run goes on from."""
         self.save_checkpoint(self.run_dir / CHECKPOINT)
 
-    def save_checkpoint(self, path: Path) -> None:
-        """Atomic checkpoint of everything needed to continue bit-for-bit (single thread)."""
+    def save_checkpoint(self, path: Path, require_finite: bool = True) -> None:
+        """Atomic checkpoint of everything needed to continue bit-for-bit (single thread); a state
+        with NaN or inf is refused (SimulationError) unless ``require_finite`` is False."""
         meta = {
+            "config": mpm_io.checkpoint_config(self.cfg),
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
             "step_mark": self._step_mark, "x_offset": self.x_offset, "dropped": self.dropped,
             "bodies": [b.state.as_dict() for b in self.intruders],
@@ -412,13 +419,19 @@ class Solver:
         arrays = self.particles.to_numpy()
         if self.fluidity is not None:  # the warm start of the next step's sweeps
             arrays[FLUIDITY_KEY] = self.fluidity.to_numpy()
-        mpm_io.save_checkpoint(path, arrays, meta)
+        mpm_io.save_checkpoint(path, arrays, meta, require_finite=require_finite)
         if self.run_dir is not None and path.parent == self.run_dir:
             mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
 
     def load_checkpoint(self, path: Path) -> None:
-        """Restore the state saved by :meth:`save_checkpoint` (same config)."""
-        self.restore(*mpm_io.load_checkpoint(Path(path)))
+        """Restore the state saved by :meth:`save_checkpoint` (same config: a checkpoint of another
+        configuration is refused with an InputError naming the differences)."""
+        arrays, meta = mpm_io.load_checkpoint(Path(path))
+        diff = mpm_io.checkpoint_mismatch(meta.get("config"), self.cfg)
+        if diff:
+            raise InputError(f"{path} is a checkpoint of another configuration (differs in {', '.join(diff[:6])}); "
+                             "it is not loaded")
+        self.restore(arrays, meta)
 
     def restore(self, arrays: dict[str, np.ndarray], meta: dict[str, Any]) -> None:
         """Restore a checkpoint already read (``mpm.io.load_checkpoint``; same config)."""
@@ -512,7 +525,7 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
         saved = MPMConfig.model_validate(saved).model_dump(mode="json")
     except ValueError:
         pass  # not a configuration of this version: compared as written
-    diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory"})
+    diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory", "time.max_steps"})
     saved_end = (saved.get("time") or {}).get("t_end")
     extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
     if extends:

@@ -16,6 +16,8 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from intrusim._checks import InputError
+from intrusim.errors import validation_message
+from intrusim.validation import reject_bool_numbers
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
 from intrusim.laws.drft import free_surface_law
@@ -28,7 +30,10 @@ ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
 class Config(BaseModel):
     """Base of every config: unknown keys are errors, values are validated on assignment."""
 
-    model_config = ConfigDict(extra="forbid", validate_assignment=True, frozen=False)
+    # finite numbers only (inf and NaN are refused, naming the field); true/false are not numbers
+    model_config = ConfigDict(extra="forbid", validate_assignment=True, frozen=False, allow_inf_nan=False)
+
+    _no_bool_numbers = model_validator(mode="before")(classmethod(reject_bool_numbers))
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "Config":
@@ -53,7 +58,7 @@ class Config(BaseModel):
         try:
             return cls.model_validate(data)
         except ValidationError as err:
-            raise InputError(f"{source}: invalid {cls.__name__}:\n{err}") from None
+            raise InputError(f"{source}: invalid {cls.__name__}: {validation_message(err)}") from None
 
 
 def _paths_relative_to(data: dict[str, Any], folder: Path) -> dict[str, Any]:

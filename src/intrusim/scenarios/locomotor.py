@@ -167,9 +167,7 @@ def without_lugs(scenario: LocomotorScenario, stub: float = 0.0005) -> Locomotor
     r_outer = scenario.radius
     if not 0.0 < stub < r_outer:
         raise InputError(f"stub must be in (0, {r_outer:g}) m, got {stub!r}")
-    return scenario.model_copy(
-        update={"name": scenario.name + "_smooth", "lug_height": stub, "hub_diameter": 2.0 * (r_outer - stub)}
-    )
+    return scenario.validated_copy(name=scenario.name + "_smooth", lug_height=stub, hub_diameter=2.0 * (r_outer - stub))
 
 
 def with_lug_count(scenario: LocomotorScenario, lug_count: int) -> LocomotorScenario:

@@ -34,7 +34,7 @@ from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
 from intrusim.mpm.config import FluidityConfig, MuIConfig, Shape
-from intrusim.mpm.io import atomic_write_bytes
+from intrusim.mpm.io import atomic_file, atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
 from intrusim.scenarios.locomotor import LocomotorScenario
@@ -112,6 +112,7 @@ class MPMSettings(Config):
     cpu_threads: int | None = Field(None, ge=1)
     keep_fields: int = Field(3, ge=0)
     frames_every: float | None = Field(None, gt=0.0)
+    max_steps: int = Field(20_000_000, ge=1)  # time.max_steps: a run estimated to take more steps is refused
 
     @property
     def h(self) -> float:
@@ -157,11 +158,9 @@ def paper_settings(body: str) -> MPMSettings:
 def quick_settings(body: str) -> MPMSettings:
     """A coarse, short version of :func:`paper_settings` (2 cm cells, 1.2 s): trends in seconds."""
     long = body == "runner"
-    return paper_settings(body).model_copy(
-        update=dict(
-            domain=(2.0 if long else 1.0, 0.5), cells=(100 if long else 50, 25), bed_depth=0.25, t_max=1.2,
-            ramp_time=0.1, settle_time=0.5, start_x=0.16,
-        )
+    return paper_settings(body).validated_copy(
+        domain=(2.0 if long else 1.0, 0.5), cells=(100 if long else 50, 25), bed_depth=0.25, t_max=1.2,
+        ramp_time=0.1, settle_time=0.5, start_x=0.16,
     )  # fmt: skip
 
 
@@ -238,7 +237,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
         )],
         gravity=(0.0, -scenario.gravity),
         contact_band_cells=s.contact_band_cells,
-        time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
+        time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0, max_steps=s.max_steps),
         transfer=TransferConfig(flip=s.flip, shape=s.shape),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5,
                             escaped="drop" if s.drop_escaped else "stop"),
@@ -262,11 +261,12 @@ def _save_frame(folder: Path, solver: Any, outline: np.ndarray) -> None:
     folder.mkdir(parents=True, exist_ok=True)
     f = solver.particles.to_numpy(["x", "v", "gdot_p", "eps_p"])
     st = solver.intruders[0].state
-    np.savez_compressed(
-        folder / f"frame_{solver.step_count:08d}.npz", x=f["x"].astype(np.float32),
-        speed=np.linalg.norm(f["v"], axis=1).astype(np.float32), gdot_p=f["gdot_p"].astype(np.float32),
-        eps_p=f["eps_p"].astype(np.float32), body=np.array([st.x, st.z, st.theta]), outline=outline, t=solver.t,
-    )  # fmt: skip
+    with atomic_file(folder / f"frame_{solver.step_count:08d}.npz") as fh:  # never a partial file under the final name
+        np.savez_compressed(
+            fh, x=f["x"].astype(np.float32),
+            speed=np.linalg.norm(f["v"], axis=1).astype(np.float32), gdot_p=f["gdot_p"].astype(np.float32),
+            eps_p=f["eps_p"].astype(np.float32), body=np.array([st.x, st.z, st.theta]), outline=outline, t=solver.t,
+        )  # fmt: skip
 
 
 PROGRESS_FILE = "progress.json"  # rear surface drops measured so far and wall time, per chunk
@@ -364,10 +364,11 @@ def run_mpm_steady(
         drops.append((solver.t, dh))
         if run_dir is not None and s.keep_fields:
             path = run_dir / f"fields_{solver.step_count:08d}.npz"
-            np.savez_compressed(
-                path, x=f["x"], v=f["v"], pressure=f["pressure"], gdot_p=f["gdot_p"], eps_p=f["eps_p"],
-                body=np.array([st.x, st.z, st.theta, st.vx, st.vz, st.omega]), outline=outline, t=solver.t,
-            )  # fmt: skip
+            with atomic_file(path) as fh:  # never a partial file under the final name
+                np.savez_compressed(
+                    fh, x=f["x"], v=f["v"], pressure=f["pressure"], gdot_p=f["gdot_p"], eps_p=f["eps_p"],
+                    body=np.array([st.x, st.z, st.theta, st.vx, st.vz, st.omega]), outline=outline, t=solver.t,
+                )  # fmt: skip
             if path not in kept:
                 kept.append(path)
             while len(kept) > s.keep_fields:
@@ -551,19 +552,25 @@ class MPMLocomotion(Config):
         """Steady state at ``omega_rpm`` (``kind`` must be "mpm"; ``lam`` is not used by MPM)."""
         if kind != "mpm":
             raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
-        out = self.run_dir(omega_rpm)
-        if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
-            from intrusim.mpm.solver import refuse_other_run
+        from intrusim.mpm.io import run_lock
 
-            if not refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out)):
-                return load_result(out, self.mpm, self.scenario.body)
-        st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
-        if out is not None:
-            write_result(out, st)
+        out = self.run_dir(omega_rpm)
+        with run_lock(out):  # one writer per run folder
+            if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
+                from intrusim.mpm.solver import refuse_other_run
+
+                if not refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out)):
+                    return load_result(out, self.mpm, self.scenario.body)
+                (out / "result.json").unlink()  # extended: the folder is unfinished until the longer run ends
+            st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
+            if out is not None:
+                write_result(out, st)
         return st
 
     def run_dir(self, omega_rpm: float) -> Path | None:
         """The run folder of one omega (None without ``out_root``)."""
         if self.out_root is None:
             return None
-        return Path(self.out_root) / f"{self.scenario.name}_{omega_rpm:g}rpm"
+        from intrusim.mpm.io import safe_child
+
+        return safe_child(self.out_root, f"{self.scenario.name}_{omega_rpm:g}rpm")
