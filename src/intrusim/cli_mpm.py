@@ -109,7 +109,7 @@ def steady(
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
     treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
     arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
-    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
+    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
     drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
 ) -> None:
@@ -162,7 +162,7 @@ def sweep(
     fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
     treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
     arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
-    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code; docs/mpm.md)."),
+    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code)."),
     shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
     drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
 ) -> None:

@@ -35,6 +35,17 @@ FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's gr
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
 
 
+def flip_share(cfg: MPMConfig, dt: float) -> float:
+    """FLIP's share of the points' velocity update per step (``TransferConfig``): ``transfer.flip`` where
+    given, else exp(-dt / tau) with tau = ``transfer.pic_time`` elastic cell-crossing times h sqrt(rho_c / E),
+    so that the PIC part relaxes the points' own velocity towards the grid's at a rate per second that
+    does not depend on dt (docs/mpm.md, "The velocity transfer")."""
+    if cfg.transfer.flip is not None:
+        return float(cfg.transfer.flip)
+    tau = cfg.transfer.pic_time * cfg.domain.h * math.sqrt(cfg.material.rho_c / cfg.material.youngs_modulus)
+    return math.exp(-dt / tau)
+
+
 def time_step_limits(cfg: MPMConfig) -> dict[str, float]:
     """Elastic CFL dt = C h sqrt(rho_c / E) and the displacement limit dt = f h / v_max (s)."""
     h = cfg.domain.h
@@ -68,9 +79,8 @@ class Solver:
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
-        self.flip = cfg.transfer.flip
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
-                         flip=self.flip > 0)
+                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0)
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
@@ -93,12 +103,13 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
+        self.flip = flip_share(cfg, self.dt)  # FLIP's share of the points' velocity update
         # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
         # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
-        # and APIC on quadratic splines only (FLIP and linear shape functions run the one-point kernels)
+        # and quadratic splines only (linear shape functions run the one-point kernels)
         self.linear = cfg.transfer.shape == "linear"
         self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-                       and self.flip == 0 and not self.linear)
+                       and not self.linear)
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0,
                                self.linear)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)

@@ -165,7 +165,7 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
     one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
     (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
-    ``flip`` (one-point only): it also sums the momentum before forces into its last argument
+    ``flip``: it also sums the momentum before forces into its last argument
     (``Grid.mo_parts``, FLIP's old grid velocity); without it that argument is not touched.
     ``linear`` (one-point only): linear shape functions (:func:`scatter_point_linear`).
 
@@ -175,8 +175,6 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
     mode = sum_mode(chunked, fixed)
     if lanes and mode != PLAIN:
         raise ValueError("the vectorised P2G is the chunked one (private copies, no atomics)")
-    if lanes and flip:
-        raise ValueError("the vectorised P2G is APIC only: FLIP runs the one-point kernel")
     if lanes and linear:
         raise ValueError("the vectorised P2G is quadratic only: linear shape functions run the one-point kernel")
     key = (mode, lanes, flip, linear)
@@ -216,7 +214,7 @@ def _make_p2g_kernel(mode: int, lanes: bool, flip: bool, linear: bool):
                     first, end = chunk_blocks(c, nc, x.shape[0])
                     if ti.static(lanes):
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_lanes(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, gmo, flip)
                     else:
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
                             c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip,
@@ -262,6 +260,19 @@ def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(),
 
 
 @ti.func
+def p2g_lanes_olds(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(), nx, ny, h, pad):
+    """FLIP's momentum before forces, w (m_p v_p + m_p C_p (x_i - x_p)), per node (a, b) of the stencil of
+    the LANES points of block ``blk`` (:func:`p2g_lanes_records` with the affine part m_p C_p alone)."""
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, nx, ny)
+    mp = mass[blk, 0]
+    m00, m01, m10, m11 = mp * C[blk, 0], mp * C[blk, 1], mp * C[blk, 2], mp * C[blk, 3]
+    o0x = mp * v[blk, 0] - h * (m00 * f0 + m01 * f1)
+    o0z = mp * v[blk, 1] - h * (m10 * f0 + m11 * f1)
+    return [(w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
+            for a in ti.static(range(3)) for b in ti.static(range(3))]
+
+
+@ti.func
 def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, lo0, hi0, lo1, hi1):
     """The 9 records of each lane of a block (points p0 ... p0 + LANES - 1 below ``end``), point after
     point, into copy c of ``gmp`` (one vector load, add and store per node, ``grid.record_width``) at their
@@ -280,8 +291,22 @@ def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, l
 
 
 @ti.func
+def add_block_momenta(gmo: ti.template(), c, p0, end, b0, b1, olds, nx, ny):
+    """FLIP's momenta ``olds`` (:func:`p2g_lanes_olds`) of each lane of a block into copy c of ``gmo``,
+    as :func:`add_block_records` adds the records."""
+    for k in ti.static(range(LANES)):
+        if p0 + k < end:
+            first = record_index(c, ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32), nx, ny)
+            for a in ti.static(range(3)):
+                for b in ti.static(range(3)):
+                    r, old = first + a * ny + b, olds[a * 3 + b]
+                    gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
+
+
+@ti.func
 def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
-                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt):
+                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt,
+                        gmo: ti.template(), flip: ti.template()):
     """The points of blocks [first, end) (below n) into grid copy c, a block at a time
     (:func:`p2g_lanes_records`), each point's 9 records still added one after the other in point
     order; returns the node box (i0, i1, j0, j1)."""
@@ -289,6 +314,8 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
     for blk in range(first, end):
         b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
         i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
+        if ti.static(flip):
+            add_block_momenta(gmo, c, blk * LANES, n, b0, b1, p2g_lanes_olds(blk, x, v, C, mass, nx, ny, h, pad), nx, ny)
     return i0, i1, j0, j1
 
 
@@ -403,20 +430,26 @@ def lane_nodes(base):
 
 
 @ti.func
-def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad):
+def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad, gv_old: ti.template(), flip: ti.template()):
     """:func:`g2p_point` for the LANES points of block ``blk``, each component a vector over them:
-    returns (v_x, v_z) and the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order).
-    The grid is read one lane at a time (a gather); everything else is vector arithmetic."""
+    returns (v_x, v_z), the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order) and,
+    with ``flip``, sum w v_old_i (else zeros). The grid is read one lane at a time (a gather);
+    everything else is vector arithmetic."""
     inv_h = 1.0 / h
     b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, gv.shape[0], gv.shape[1])
     i0, i1 = lane_nodes(b0), lane_nodes(b1)
     zero = ti.Vector([0.0] * LANES)
     s0x, s0z, sax, saz, sbx, sbz = zero, zero, zero, zero, zero, zero
+    ox, oz = zero, zero  # FLIP: sum w v_old_i
     for a in ti.static(range(3)):
         r0x, r0z, rbx, rbz = zero, zero, zero, zero  # sum_b w_b v_ab, sum_b w_b v_ab b
         for b in ti.static(range(3)):
             gx = ti.Vector([gv[i0[k] + a, i1[k] + b][0] for k in ti.static(range(LANES))])
             gz = ti.Vector([gv[i0[k] + a, i1[k] + b][1] for k in ti.static(range(LANES))])
+            if ti.static(flip):
+                wab = w0[a] * w1[b]
+                ox += wab * ti.Vector([gv_old[i0[k] + a, i1[k] + b][0] for k in ti.static(range(LANES))])
+                oz += wab * ti.Vector([gv_old[i0[k] + a, i1[k] + b][1] for k in ti.static(range(LANES))])
             wx, wz = w1[b] * gx, w1[b] * gz
             r0x += wx
             r0z += wz
@@ -431,7 +464,8 @@ def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad):
         sbx += w0[a] * rbx
         sbz += w0[a] * rbz
     k = 4.0 * inv_h
-    return s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1)
+    return (s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1),
+            ox, oz)
 
 
 @ti.func
@@ -503,8 +537,6 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
     key = (stress_update, n_params, lanes, flip, linear)
     if key in _G2P_KERNELS:
         return _G2P_KERNELS[key]
-    if flip and lanes:
-        raise ValueError("the vectorised G2P is APIC only: FLIP runs the one-point kernel")
     if linear and lanes:
         raise ValueError("the vectorised G2P is quadratic only: linear shape functions run the one-point kernel")
     gather = g2p_point_linear if linear else g2p_point
@@ -548,13 +580,16 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range(x.shape[0]):
-                v0, v1, l00, l01, l10, l11 = g2p_lanes(x, blk, gv, h, pad)
+                v0, v1, l00, l01, l10, l11, o0, o1 = g2p_lanes(x, blk, gv, h, pad, gv_old, flip)
                 m = mass[blk, 0]
                 # v_p *= exp(dt tr D), <= m_p / rho_floor
                 vp = ti.min(vol[blk, 0] * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
                 t_xx, t_zz, t_xz, t_yy, dgamma = law(sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0],
                                                      l00, l01, l10, l11, m / vp, dt, prm)
-                v[blk, 0], v[blk, 1] = v0, v1
+                if ti.static(flip):  # v_p <- sum w v_i + share (v_p - sum w v_old_i)
+                    v[blk, 0], v[blk, 1] = v0 + share * (v[blk, 0] - o0), v1 + share * (v[blk, 1] - o1)
+                else:
+                    v[blk, 0], v[blk, 1] = v0, v1
                 C[blk, 0], C[blk, 1], C[blk, 2], C[blk, 3] = l00, l01, l10, l11
                 x[blk, 0], x[blk, 1] = x[blk, 0] + dt * v0, x[blk, 1] + dt * v1
                 vol[blk, 0] = vp

@@ -68,8 +68,9 @@ class MPMSettings(Config):
         short box; the time series' x stays in the bed's frame. None: the body runs to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
     cfl : C of dt = C h sqrt(rho_c / E).
-    flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; 0: APIC, as the
-        paper-set-up runs; 1: FLIP, the method of the paper's group's mpm-2d code).
+    flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; None: the default
+        transfer, FLIP with a PIC share per step that falls with dt; 0: APIC, the former default;
+        1: FLIP, the method of the paper's group's mpm-2d code).
     shape : shape functions of the transfers (``TransferConfig.shape``): "quadratic" (B-splines, as
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
@@ -103,7 +104,7 @@ class MPMSettings(Config):
     treadmill: tuple[float, float] | None = None
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
-    flip: float = Field(0.0, ge=0.0, le=1.0)
+    flip: float | None = Field(None, ge=0.0, le=1.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
     contact_band_cells: float = Field(1.0, ge=0.0)
