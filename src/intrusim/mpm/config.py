@@ -132,7 +132,7 @@ class BedConfig(_Model):
         return v
 
 
-WallKind = Literal["frictionless", "sticky", "coulomb"]
+WallKind = Literal["frictionless", "sticky", "coulomb", "open"]
 
 
 class WallConfig(_Model):
@@ -141,11 +141,16 @@ class WallConfig(_Model):
 
 
 class BoundaryConfig(_Model):
-    """Domain walls. The top of the domain is open (particles above it are a guard failure)."""
+    """Domain walls. A side of kind "open" has no wall: points that leave through it are removed and
+    their mass counted as outflow (``Solver.outflow``, the time series' ``outflow_mass``). The top has
+    no wall; ``top = "open"`` makes it an outflow side too (else a point above it is an escape,
+    ``output.escaped``)."""
 
     left: WallConfig = Field(default_factory=WallConfig)
     right: WallConfig = Field(default_factory=WallConfig)
     floor: WallConfig = Field(default_factory=lambda: WallConfig(kind="sticky"))
+    top: Literal["escape", "open"] = Field(
+        "escape", description="escape: a point above the top is an escape (output.escaped); open: it leaves as outflow")
 
 
 class ObstacleConfig(_Model):

@@ -19,13 +19,15 @@ class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
     def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1,
-                 fixed_density: float | None = None, flip: bool = False):
+                 fixed_density: float | None = None, flip: bool = False, pad: int = PAD):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
         self.h = self.size[0] / self.cells[0]
-        self.pad = PAD
-        self.shape = (self.cells[0] + 2 * PAD + 1, self.cells[1] + 2 * PAD + 1)
+        self.pad = int(pad)  # >= PAD; more where points leave through open sides (Solver)
+        if self.pad < PAD:
+            raise ValueError(f"grid padding must be at least {PAD} cells, got {pad}")
+        self.shape = (self.cells[0] + 2 * self.pad + 1, self.cells[1] + 2 * self.pad + 1)
         self.chunks = int(chunks)
         if not 1 <= self.chunks <= 31:
             raise ValueError(f"P2G chunks must be 1-31 (a bit each in a column mask), got {chunks}")

@@ -15,7 +15,7 @@ import numpy as np
 
 from .backend import ensure_initialized
 from .bed import build_bed
-from .boundaries import Walls
+from .boundaries import SIDES, Walls
 from .config import MPMConfig, PrescribedMotion
 from .constitutive import NonlocalFluidity, material_from_config, pressure
 from .contact import PolygonContact
@@ -23,7 +23,7 @@ from .diagnostics import (
     SimulationError, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
-from .grid import Grid, grid_update_kernel
+from .grid import PAD, Grid, grid_update_kernel
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
@@ -44,6 +44,15 @@ def flip_share(cfg: MPMConfig, dt: float) -> float:
         return float(cfg.transfer.flip)
     tau = cfg.transfer.pic_time * cfg.domain.h * math.sqrt(cfg.material.rho_c / cfg.material.youngs_modulus)
     return math.exp(-dt / tau)
+
+
+def grid_padding(cfg: MPMConfig, walls: Walls) -> int:
+    """Cells of padding around the domain: ``grid.PAD``, and where a side is open, enough more that a
+    point leaving through it keeps its full stencil (a point moves at most ``max_cell_fraction`` cells
+    a step, the CFL guard) until the next guard removes it, ``guard_every_steps`` later."""
+    if not walls.open_sides:
+        return PAD
+    return PAD + math.ceil(cfg.output.escape_margin_cells + cfg.output.guard_every_steps * cfg.time.max_cell_fraction)
 
 
 def time_step_limits(cfg: MPMConfig) -> dict[str, float]:
@@ -79,13 +88,13 @@ class Solver:
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
+        self.walls = Walls(cfg.boundaries)
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
-                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0)
+                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0, pad=grid_padding(cfg, self.walls))
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)
-        self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
         self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
         self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies)
@@ -125,6 +134,7 @@ class Solver:
         self._step_mark = 0
         self.x_offset = 0.0  # m, how far shift_window has moved the scene back (bed frame x = x + x_offset)
         self.dropped = {"points": 0, "mass": 0.0}  # escaped points left out (output.escaped = "drop"); mass kg/m
+        self.outflow = {"points": 0, "mass": 0.0}  # points gone through open sides (BoundaryConfig); mass kg/m
         self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
 
     # ------------------------------------------------------------------ the MPM step
@@ -203,9 +213,9 @@ class Solver:
         p = self.particles
         guard_scan(p.x, p.v, p.sigma, p.n, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
-        if out[0] == 0 and out[1] > 0 and self.cfg.output.escaped == "drop":
-            self._drop_escaped(lx, lz, self.cfg.output.escape_margin_cells * self.h)
-            out[1] = 0
+        if out[0] == 0 and out[1] > 0 and (self.walls.open_sides or self.cfg.output.escaped == "drop"):
+            if self._remove_leaving(lx, lz, self.cfg.output.escape_margin_cells * self.h):
+                out[1] = 0
         if out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h:
             return
         p = self.particles
@@ -218,14 +228,33 @@ class Solver:
             where = f"; state saved to {path}"
         raise SimulationError(f"{diag} at t={self.t:.6g} s (step {self.step_count}){where}")
 
-    def _drop_escaped(self, lx: float, lz: float, margin: float) -> None:
-        """Leave out the points more than ``margin`` outside [0, lx] x [0, lz] (output.escaped = "drop"),
-        count them in ``dropped`` and say so on stderr."""
+    def _remove_leaving(self, lx: float, lz: float, margin: float) -> bool:
+        """Remove the points more than ``margin`` outside [0, lx] x [0, lz]: beyond an open side
+        (``BoundaryConfig``) as outflow, counted in ``outflow``; elsewhere as escapes with
+        output.escaped = "drop" (counted in ``dropped``, a line on stderr). False, and nothing removed,
+        if a point escaped through a side that is not open and escapes stop the run."""
         d = self.particles.to_numpy()
         x = d["x"]
-        out = (x[:, 0] < -margin) | (x[:, 0] > lx + margin) | (x[:, 1] < -margin) | (x[:, 1] > lz + margin)
+        beyond = dict(zip(SIDES, (x[:, 0] < -margin, x[:, 0] > lx + margin, x[:, 1] < -margin, x[:, 1] > lz + margin)))
+        outflow = np.zeros(len(x), dtype=bool)
+        for side in self.walls.open_sides:
+            outflow |= beyond[side]
+        out = (beyond["left"] | beyond["right"] | beyond["floor"] | beyond["top"]) & ~outflow
+        if out.any() and self.cfg.output.escaped != "drop":
+            return False
+        if (outflow | out).all():
+            raise SimulationError(f"every point has left the domain at t={self.t:.6g} s (step {self.step_count})")
+        self.outflow["points"] += int(outflow.sum())
+        self.outflow["mass"] += float(d["mass"][outflow].sum())
+        self._replace_particles({k: a[~(outflow | out)] for k, a in d.items()})
+        if out.any():
+            self._count_dropped(out, d)
+        return True
+
+    def _count_dropped(self, out: np.ndarray, d: dict[str, np.ndarray]) -> None:
+        """Count the escaped points ``out`` of the state ``d`` (removed) in ``dropped``; say so on stderr."""
+        x = d["x"]
         n, mass = int(out.sum()), float(d["mass"][out].sum())
-        self._replace_particles({k: a[~out] for k, a in d.items()})
         self.dropped["points"] += n
         self.dropped["mass"] += mass
         i = int(np.flatnonzero(out)[0])
@@ -257,6 +286,8 @@ class Solver:
                 row.update({f"{pre}{n}{suffix}": f[i] * body.width for i, n in enumerate(("fx", "fz", "moment"))})
         ke, mass = self.grain_energy_and_mass()
         row.update({"kinetic_energy": ke, "grain_mass": mass})
+        if self.walls.open_sides:  # grain_mass + outflow_mass is the mass of the start (less any dropped)
+            row["outflow_mass"] = self.outflow["mass"] * (self.intruders[0].width if self.intruders else 1.0)
         self._step_mark = self.step_count
         self.rows.append(row)
         return row
@@ -412,6 +443,7 @@ class Solver:
         meta = {
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
             "step_mark": self._step_mark, "x_offset": self.x_offset, "dropped": self.dropped,
+            "outflow": self.outflow,
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
             "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
@@ -445,6 +477,7 @@ class Solver:
             self._replace_particles(arrays)
         self.x_offset = float(meta.get("x_offset", 0.0))
         self.dropped = dict(meta.get("dropped", {"points": 0, "mass": 0.0}))
+        self.outflow = dict(meta.get("outflow", {"points": 0, "mass": 0.0}))
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
         self._step_mark = int(meta["step_mark"])
