@@ -23,7 +23,8 @@ Cases (``--cases``):
   lambda of F = K |z| + lambda rho A v^2. Base cells 5 mm (2.5 mm is Fig 6's).
 
 ``--flip S`` runs every case with a fixed FLIP share S per step (0: APIC, the former default)
-instead of the default transfer, kept under its own key, for comparison.
+instead of the default transfer, and ``--band B`` with ``contact_band_cells = B`` instead of the
+default, each kept under its own key, for comparison.
 
     python benchmarks/convergence.py --cases collapse silo --levels 2 --threads 1 --write docs/convergence.md
 """
@@ -42,6 +43,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "runs" / "convergence" / "results.json"
 CFL = (0.3, 0.15)  # dt and dt/2
+BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
 
 # targets of issue 52: |change| per dt halving, per h halving between the two finest cells
 DT_TARGET = 0.01
@@ -85,7 +87,7 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
     a, b = (lx - width) / 2, (lx + width) / 2
     slabs = [[(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
              [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)]]
-    extra = {} if band is None else {"contact_band_cells": band}
+    extra = {} if band is None else {"contact_band_cells": band}  # the static obstacles' band
     return MPMConfig(
         domain=DomainConfig(size=(lx, lz), cells=(round(lx / h), round(lz / h))),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
@@ -97,12 +99,12 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
     )
 
 
-def silo(h: float, cfl: float, threads: int, flip: float | None, band: float | None = None) -> dict[str, float]:
+def silo(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
     from intrusim.mpm.solver import Solver
 
     out: dict[str, float] = {}
     for width in SILO_WIDTHS:
-        solver = Solver(silo_config(h, cfl, threads, flip, width, band))
+        solver = Solver(silo_config(h, cfl, threads, flip, width, BAND))
         rows = solver.run()
         t = np.array([r["time"] for r in rows])
         m = np.array([r["outflow_mass"] for r in rows])
@@ -127,7 +129,8 @@ def wheel(rpm: float):
 
         base = paper_settings("wheel")
         cells = tuple(round(length / h) for length in base.domain)
-        settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip)
+        settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip,
+                                       **({} if BAND is None else {"contact_band_cells": BAND}))
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
         return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps}
 
@@ -143,7 +146,7 @@ def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, f
     for d in DRAG_DEPTHS:
         for v in DRAG_SPEEDS_QUICK:
             case = PlateDragCase(depth=d, speed=v, travel=0.04, cells=(round(0.30 / h), round(0.15 / h)), cfl=cfl,
-                                 flip=flip)
+                                 flip=flip, **({} if BAND is None else {"contact_band_cells": BAND}))
             rows = Solver(case.config(**backend(threads))).run()
             depth.append(d)
             speed.append(v)
@@ -163,7 +166,8 @@ CASES = {  # name: (run, base cells h in m, the quantities of the table)
 
 # ------------------------------------------------------------------------------------------ the runs
 def key(case: str, h: float, cfl: float, flip: float | None) -> str:
-    return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|" + ("default" if flip is None else f"flip={flip:g}")
+    variant = ("default" if flip is None else f"flip={flip:g}") + ("" if BAND is None else f"|band={BAND:g}")
+    return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
 
 
 def load() -> dict:
@@ -214,19 +218,24 @@ def verdict(name: str, quantity: str, dt_change: float | None, h_change: float |
     return ", ".join(parts) or "-"
 
 
-def table(results: dict, flip: float | None) -> list[str]:
+def cell_sizes(results: dict, name: str, variant: str) -> list[float]:
+    """The cell sizes (mm) at which case ``name`` has results of ``variant``, coarsest first."""
+    hs = {float(k.split("|")[1][2:-2]) for k in results if k.startswith(name + "|") and k.split("|", 3)[3] == variant}
+    return sorted(hs, reverse=True)
+
+
+def table(results: dict, variant: str) -> list[str]:
     lines = ["| case | quantity | h (mm) | at dt | at dt/2 | per dt halving | per h halving (at dt) | target |",
              "|---|---|---|---|---|---|---|---|"]
     for name, (_, h0, quantities) in CASES.items():
-        hs = sorted({float(k.split("|")[1][2:-2]) for k in results if k.startswith(name + "|")}, reverse=True)
+        hs = cell_sizes(results, name, variant)
         if not hs:
             lines.append(f"| {name} | {', '.join(quantities)} | - | not run | not run | - | - | - |")
             continue
         for q in quantities:
             prev = None
             for h_mm in hs:
-                a = results.get(key(name, h_mm * 1e-3, CFL[0], flip), {}).get(q)
-                b = results.get(key(name, h_mm * 1e-3, CFL[1], flip), {}).get(q)
+                a, b = (results.get(f"{name}|h={h_mm:g}mm|cfl={cfl:g}|{variant}", {}).get(q) for cfl in CFL)
                 dt_change = None if a is None or b is None else b / a - 1
                 h_change = None if a is None or prev is None else a / prev - 1
                 lines.append(f"| {name} | {q} | {h_mm:g} | {fmt(a)} | {fmt(b)} | {pct(a, b)} | {pct(prev, a)} | "
@@ -235,12 +244,20 @@ def table(results: dict, flip: float | None) -> list[str]:
     return lines
 
 
+TITLES = {"default": "The default transfer (FLIP with a PIC share per step exp(-dt / tau)) and contact band",
+          "flip=0": "APIC (`transfer.flip = 0`, the former default), default contact band"}
+
+
 def write_doc(path: Path, results: dict) -> None:
     """Replace the generated tables of ``path`` (between the markers) with the current ones."""
     begin, end = "<!-- convergence table: begin -->", "<!-- convergence table: end -->"
-    body = [begin, "", "Default transfer (`transfer.flip = None`):", ""] + table(results, None)
-    if any(k.endswith("|flip=0") for k in results):
-        body += ["", "APIC (`transfer.flip = 0`, the former default), the same cases:", ""] + table(results, 0.0)
+    variants = sorted({k.split("|", 3)[3] for k in results}, key=lambda v: (v != "default", v))
+    body = [begin]
+    for v in variants:
+        title = TITLES.get(v, f"`{v}` (" + ", ".join(
+            "APIC" if p == "flip=0" else "contact band " + p[5:] if p.startswith("band=") else
+            "the default transfer" if p == "default" else p for p in v.split("|")) + ")")
+        body += ["", f"{title}:", ""] + table(results, v)
     body += ["", end]
     text = path.read_text() if path.exists() else f"# Convergence\n\n{begin}\n{end}\n"
     head, rest = text.split(begin, 1)
@@ -255,13 +272,17 @@ def main() -> None:
     ap.add_argument("--dt-levels", type=int, default=None, help="run dt/2 at this many of the coarsest cells (default all)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default")
+    ap.add_argument("--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)")
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
-    if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1):
-        sys.exit("need --levels >= 1, --threads >= 1 and 0 <= --flip <= 1")
+    if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1) or (
+            args.band is not None and args.band < 0):
+        sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
+    global BAND
+    BAND = args.band
     results = run_cases(args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels,
                         args.threads, args.flip)
-    print("\n".join(table(results, args.flip)))
+    print("\n".join(table(results, key("", 0.0, 0.0, args.flip).split("|", 3)[3])))
     if args.write is not None:
         write_doc(args.write, results)
 
