@@ -23,8 +23,9 @@ Cases (``--cases``):
   lambda of F = K |z| + lambda rho A v^2. Base cells 5 mm (2.5 mm is Fig 6's).
 
 ``--flip S`` runs every case with a fixed FLIP share S per step (0: APIC, the former default)
-instead of the default transfer, and ``--band B`` with ``contact_band_cells = B`` instead of the
-default, each kept under its own key, for comparison.
+instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (collapse and silo),
+and ``--band B`` with ``contact_band_cells = B`` instead of the default, each kept under its own key,
+for comparison.
 
     python benchmarks/convergence.py --cases collapse silo --levels 2 --threads 1 --write docs/convergence.md
 """
@@ -44,6 +45,13 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "runs" / "convergence" / "results.json"
 CFL = (0.3, 0.15)  # dt and dt/2
 BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
+PIC_TIME: float | None = None  # transfer.pic_time of the runs (--pic-time); None: the config's default
+
+
+def transfer(flip: float | None):
+    from intrusim.mpm.config import TransferConfig
+
+    return TransferConfig(flip=flip, **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
 
 # targets of issue 52: |change| per dt halving, per h halving between the two finest cells
 DT_TARGET = 0.01
@@ -59,7 +67,7 @@ def backend(threads: int) -> dict:
 # ---------------------------------------------------------------------------------------------- cases
 def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
     from intrusim.mpm.config import (BedConfig, DomainConfig, MaterialConfig, MPMConfig, OutputConfig, Rectangle,
-                                     TimeConfig, TransferConfig)
+                                     TimeConfig)
     from intrusim.mpm.solver import Solver
 
     size = (0.5, 0.15)
@@ -67,7 +75,7 @@ def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str
         domain=DomainConfig(size=size, cells=(round(size[0] / h), round(size[1] / h))),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.1, z1=0.1)]),
-        time=TimeConfig(t_end=0.6, cfl=cfl), transfer=TransferConfig(flip=flip),
+        time=TimeConfig(t_end=0.6, cfl=cfl), transfer=transfer(flip),
         output=OutputConfig(record_every=0.1), backend=backend(threads),
     )
     solver = Solver(cfg)
@@ -80,7 +88,7 @@ def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str
 
 def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float, band: float | None = None):
     from intrusim.mpm.config import (BedConfig, BoundaryConfig, DomainConfig, MaterialConfig, MPMConfig,
-                                     ObstacleConfig, OutputConfig, Rectangle, TimeConfig, TransferConfig, WallConfig)
+                                     ObstacleConfig, OutputConfig, Rectangle, TimeConfig, WallConfig)
 
     lx, floor, thick, fill = 0.3, 0.04, 0.02, 0.2
     lz = floor + fill + 0.06
@@ -94,7 +102,7 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=floor, x1=lx, z1=floor + fill)]),
         boundaries=BoundaryConfig(floor=WallConfig(kind="open")),
         obstacles=[ObstacleConfig(vertices=s, mu=0.5) for s in slabs],
-        time=TimeConfig(t_end=0.35, cfl=cfl, v_max_expected=2.0), transfer=TransferConfig(flip=flip),
+        time=TimeConfig(t_end=0.35, cfl=cfl, v_max_expected=2.0), transfer=transfer(flip),
         output=OutputConfig(record_every=0.01, guard_every_steps=20), backend=backend(threads), **extra,
     )
 
@@ -132,7 +140,8 @@ def wheel(rpm: float):
         settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip,
                                        **({} if BAND is None else {"contact_band_cells": BAND}))
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
-        return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps}
+        return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps,
+                "v_std_m_per_s": st.velocity_std, "drift": st.drift}
 
     return run
 
@@ -167,6 +176,7 @@ CASES = {  # name: (run, base cells h in m, the quantities of the table)
 # ------------------------------------------------------------------------------------------ the runs
 def key(case: str, h: float, cfl: float, flip: float | None) -> str:
     variant = ("default" if flip is None else f"flip={flip:g}") + ("" if BAND is None else f"|band={BAND:g}")
+    variant += "" if PIC_TIME is None else f"|pic_time={PIC_TIME:g}"
     return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
 
 
@@ -188,9 +198,9 @@ def run_cases(cases: list[str], levels: int, dt_levels: int, threads: int, flip:
                 values = run(h, cfl, threads, flip)
                 values["wall_s"] = time.perf_counter() - t0
                 values["threads"] = threads
-                results[k] = values
                 print(k, json.dumps({a: round(b, 6) for a, b in values.items()}), flush=True)
                 RESULTS.parent.mkdir(parents=True, exist_ok=True)
+                results = {**load(), k: values}  # another process may have added runs meanwhile
                 RESULTS.write_text(json.dumps(results, indent=1, sort_keys=True))
     return results
 
@@ -273,13 +283,15 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default")
     ap.add_argument("--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)")
+    ap.add_argument("--pic-time", type=float, default=None,
+                    help="transfer.pic_time of the default transfer (collapse and silo; default: the config's)")
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
     if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1) or (
             args.band is not None and args.band < 0):
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
-    global BAND
-    BAND = args.band
+    global BAND, PIC_TIME
+    BAND, PIC_TIME = args.band, args.pic_time
     results = run_cases(args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels,
                         args.threads, args.flip)
     print("\n".join(table(results, key("", 0.0, 0.0, args.flip).split("|", 3)[3])))

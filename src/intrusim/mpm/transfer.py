@@ -260,16 +260,30 @@ def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(),
 
 
 @ti.func
-def p2g_lanes_olds(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(), nx, ny, h, pad):
-    """FLIP's momentum before forces, w (m_p v_p + m_p C_p (x_i - x_p)), per node (a, b) of the stencil of
-    the LANES points of block ``blk`` (:func:`p2g_lanes_records` with the affine part m_p C_p alone)."""
+def p2g_lanes_records_flip(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
+                           vol: ti.template(), sigma: ti.template(), nx, ny, h, pad, dt):
+    """:func:`p2g_lanes_records` and, per node (a, b), FLIP's momentum before forces
+    w (m_p v_p + m_p C_p (x_i - x_p)) (the records with the affine part m_p C_p alone), from one
+    evaluation of the stencil."""
+    inv_h = 1.0 / h
     b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, nx, ny)
     mp = mass[blk, 0]
+    kv = dt * vol[blk, 0] * 4.0 * inv_h * inv_h
     m00, m01, m10, m11 = mp * C[blk, 0], mp * C[blk, 1], mp * C[blk, 2], mp * C[blk, 3]
-    o0x = mp * v[blk, 0] - h * (m00 * f0 + m01 * f1)
-    o0z = mp * v[blk, 1] - h * (m10 * f0 + m11 * f1)
-    return [(w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
+    a00 = m00 - kv * sigma[blk, XX]
+    a01 = m01 - kv * sigma[blk, XZ]
+    a10 = m10 - kv * sigma[blk, XZ]
+    a11 = m11 - kv * sigma[blk, ZZ]
+    mvx, mvz = mp * v[blk, 0], mp * v[blk, 1]
+    q0x = mvx - h * (a00 * f0 + a01 * f1)
+    q0z = mvz - h * (a10 * f0 + a11 * f1)
+    o0x = mvx - h * (m00 * f0 + m01 * f1)
+    o0z = mvz - h * (m10 * f0 + m11 * f1)
+    records = [(w0[a] * w1[b] * (q0x + h * (a * a00 + b * a01)), w0[a] * w1[b] * (q0z + h * (a * a10 + b * a11)),
+                w0[a] * w1[b] * mp) for a in ti.static(range(3)) for b in ti.static(range(3))]
+    olds = [(w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
             for a in ti.static(range(3)) for b in ti.static(range(3))]
+    return b0, b1, records, olds
 
 
 @ti.func
@@ -291,16 +305,21 @@ def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, l
 
 
 @ti.func
-def add_block_momenta(gmo: ti.template(), c, p0, end, b0, b1, olds, nx, ny):
-    """FLIP's momenta ``olds`` (:func:`p2g_lanes_olds`) of each lane of a block into copy c of ``gmo``,
-    as :func:`add_block_records` adds the records."""
+def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b0, b1, records, olds, nx, ny,
+                           lo0, hi0, lo1, hi1):
+    """:func:`add_block_records`, and FLIP's momenta ``olds`` into copy c of ``gmo`` at the same nodes."""
     for k in ti.static(range(LANES)):
         if p0 + k < end:
-            first = record_index(c, ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32), nx, ny)
+            i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
+            first = record_index(c, i, j, nx, ny)
             for a in ti.static(range(3)):
                 for b in ti.static(range(3)):
-                    r, old = first + a * ny + b, olds[a * 3 + b]
+                    r, rec, old = first + a * ny + b, records[a * 3 + b], olds[a * 3 + b]
+                    gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
                     gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
+            lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
+            hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
+    return lo0, hi0, lo1, hi1
 
 
 @ti.func
@@ -312,10 +331,13 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
     order; returns the node box (i0, i1, j0, j1)."""
     i0, i1, j0, j1 = nx, 0, ny, 0
     for blk in range(first, end):
-        b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
-        i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
         if ti.static(flip):
-            add_block_momenta(gmo, c, blk * LANES, n, b0, b1, p2g_lanes_olds(blk, x, v, C, mass, nx, ny, h, pad), nx, ny)
+            b0, b1, records, olds = p2g_lanes_records_flip(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+            i0, i1, j0, j1 = add_block_records_flip(gmp, gmo, c, blk * LANES, n, b0, b1, records, olds, nx, ny,
+                                                    i0, i1, j0, j1)
+        else:
+            b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+            i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
     return i0, i1, j0, j1
 
 
