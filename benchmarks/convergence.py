@@ -23,7 +23,7 @@ Cases (``--cases``):
   lambda of F = K |z| + lambda rho A v^2. Base cells 5 mm (2.5 mm is Fig 6's).
 
 ``--flip S`` runs every case with a fixed FLIP share S per step (0: APIC, the former default)
-instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (collapse and silo),
+instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (not the plate),
 and ``--band B`` with ``contact_band_cells = B`` instead of the default, each kept under its own key,
 for comparison.
 
@@ -138,7 +138,8 @@ def wheel(rpm: float):
         base = paper_settings("wheel")
         cells = tuple(round(length / h) for length in base.domain)
         settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip,
-                                       **({} if BAND is None else {"contact_band_cells": BAND}))
+                                       **({} if BAND is None else {"contact_band_cells": BAND}),
+                                       **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
         return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps,
                 "v_std_m_per_s": st.velocity_std, "drift": st.drift}
@@ -284,7 +285,7 @@ def main() -> None:
     ap.add_argument("--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default")
     ap.add_argument("--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)")
     ap.add_argument("--pic-time", type=float, default=None,
-                    help="transfer.pic_time of the default transfer (collapse and silo; default: the config's)")
+                    help="transfer.pic_time of the default transfer (collapse, silo, wheels; default: the config's)")
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
     if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1) or (
