@@ -89,8 +89,15 @@ class Solver:
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
         self.walls = Walls(cfg.boundaries)
+        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
+        # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs),
+        # and quadratic splines only (linear shape functions run the one-point kernels)
+        self.linear = cfg.transfer.shape == "linear"
+        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
+                       and not self.linear)
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
-                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0, pad=grid_padding(cfg, self.walls))
+                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0, pad=grid_padding(cfg, self.walls),
+                         flip_in_records=self._lanes)
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
@@ -113,12 +120,6 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self.flip = flip_share(cfg, self.dt)  # FLIP's share of the points' velocity update
-        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
-        # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
-        # and quadratic splines only (linear shape functions run the one-point kernels)
-        self.linear = cfg.transfer.shape == "linear"
-        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-                       and not self.linear)
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0,
                                self.linear)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)

@@ -315,8 +315,13 @@ def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b
             for a in ti.static(range(3)):
                 for b in ti.static(range(3)):
                     r, rec, old = first + a * ny + b, records[a * 3 + b], olds[a * 3 + b]
-                    gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
-                    gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
+                    if ti.static(gmp.element_shape()[0] == 8):  # one record (Grid.flip_in_records)
+                        zero = 0.0 * rec[2][k]
+                        gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k], zero, old[0][k], old[1][k],
+                                                     zero, zero])
+                    else:
+                        gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
+                        gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
             lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
             hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
     return lo0, hi0, lo1, hi1
