@@ -1,10 +1,13 @@
-"""Particle <-> grid transfers with quadratic B-splines and APIC (MLS-MPM form); linear (tent)
-shape functions as an option (``TransferConfig.shape``, one-point kernels only).
+"""Particle <-> grid transfers with quadratic B-splines and the affine momentum of APIC (MLS-MPM
+form); linear (tent) shape functions as an option (``TransferConfig.shape``, one-point kernels only).
 
-APIC (Jiang et al. 2015) is used rather than a FLIP/PIC blend: it conserves linear and angular
-momentum, has no FLIP noise or PIC damping parameter to tune, and its affine matrix C is the
-velocity gradient the constitutive update needs. Internal forces use the MLS-MPM gradient
-(Hu et al. 2018): grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines in APIC.
+The points' velocity update is FLIP with a PIC share that falls with dt (the default,
+``TransferConfig.flip = None``: v_p <- sum w v_i + s (v_p - sum w v_old_i), s = exp(-dt / tau)), so that
+the damping per second, and the answers, do not depend on dt (docs/mpm.md, "The velocity transfer");
+a fixed share is an option (0: APIC, Jiang et al. 2015; 1: FLIP). P2G scatters the affine momentum
+m_p (v_p + C_p (x_i - x_p)) either way, and C_p is the grid's velocity gradient, which the
+constitutive update needs. Internal forces use the MLS-MPM gradient (Hu et al. 2018):
+grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines.
 """
 
 
