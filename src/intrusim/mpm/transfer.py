@@ -168,8 +168,9 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
     one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
     (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
-    ``flip``: it also sums the momentum before forces into its last argument
-    (``Grid.mo_parts``, FLIP's old grid velocity); without it that argument is not touched.
+    ``flip``: it also sums the momentum before forces into its last argument (``Grid.mo_parts``, FLIP's
+    old grid velocity), or with ``lanes`` into the records' 5th and 6th numbers where they are 8 wide
+    (``Grid.flip_in_records``); without it that argument is not touched.
     ``linear`` (one-point only): linear shape functions (:func:`scatter_point_linear`).
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
@@ -560,8 +561,8 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
     Both forms update every slot of the blocks, the last block's pads too (copies of the last point,
     they stay copies).
 
-    ``flip`` (one-point only): the last two arguments, the grid velocity before forces (``Grid.v_old``)
-    and FLIP's share of the new velocity (``TransferConfig.flip``), are used; without it they are not
+    ``flip``: the last two arguments, the grid velocity before forces (``Grid.v_old``)
+    and FLIP's share of the new velocity (``Solver.flip``), are used; without it they are not
     touched (placeholders). ``linear`` (one-point only): linear shape functions (:func:`g2p_point_linear`).
     """
     key = (stress_update, n_params, lanes, flip, linear)
