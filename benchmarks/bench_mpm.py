@@ -1,7 +1,7 @@
 """Benchmark: one explicit MPM step (issue: >= 30x the NumPy step, within 4x of a bandwidth bound).
 
-For a resting bed of ~64k and ~160k material points (quadratic B-splines, APIC, Drucker-Prager
-with separation, walls) it prints, all measured in the same run:
+For a resting bed of ~64k and ~160k material points (quadratic B-splines, the default transfer:
+FLIP with a PIC share per step that falls with dt; Drucker-Prager with separation, walls) it prints, all measured in the same run:
 
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
 * the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
@@ -17,9 +17,10 @@ with separation, walls) it prints, all measured in the same run:
 * optionally (``--rate-laws``) the step with the mu(I) friction and with the nonlocal fluidity
   (not the paper's law), as a ratio to the paper's law's step,
 * optionally (``--transfers``) the step with the other transfers, in alternate rounds with the
-  default (APIC on quadratic B-splines, vectorised): APIC with the one-point kernels, FLIP
-  (``transfer.flip = 1``) on quadratic B-splines and FLIP on linear shape functions
-  (``transfer.shape = "linear"``, the paper's group's mpm-2d), as ratios to the default,
+  default (vectorised): APIC (``transfer.flip = 0``, the former default) vectorised and with the
+  one-point kernels, FLIP (``transfer.flip = 1``) on quadratic B-splines and FLIP on linear shape
+  functions (``transfer.shape = "linear"``, the paper's group's mpm-2d, one-point kernels), as ratios
+  to the default; ``--only-transfers`` leaves out the other comparisons (lanes, atomics, launches),
 * optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
   (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
   from a short run, and the same step with the wheel's dynamics on the host (its impulse read
@@ -32,6 +33,7 @@ Each thread count runs in its own process (Taichi is initialised once per proces
     python benchmarks/bench_mpm.py --arch cuda --threads all --cases 64k,160k,1M,4M   # a GPU
     python benchmarks/bench_mpm.py --threads 2 --repeat 5   # 5 runs: how often each target is met
     python benchmarks/bench_mpm.py --threads 1,2 --no-numpy --transfers --cases 64k   # FLIP, linear
+    python benchmarks/bench_mpm.py --threads 2 --no-numpy --only-transfers --repeat 3   # the default vs APIC
 
 On the shared 2-core machines one run's ratios move by up to 1.5x from run to run (the NumPy step,
 the copy bandwidth and the step all vary), so a verdict counts the runs that meet each target.
@@ -140,7 +142,8 @@ RATE_LAWS = {  # --rate-laws: the options that are not the paper's law, against 
 
 
 TRANSFERS = {  # label: TransferConfig fields (and simd_lanes) of the --transfers variants
-    "APIC, one-point kernels": (dict(), False),
+    "APIC (the former default), vectorised": (dict(flip=0.0), True),
+    "APIC, one-point kernels": (dict(flip=0.0), False),
     "FLIP, quadratic": (dict(flip=1.0), True),
     "FLIP, linear": (dict(flip=1.0, shape="linear"), True),
 }
@@ -250,7 +253,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
 
 
 def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bool = False,
-            cases: str = DEFAULT_CASES, transfers: bool = False) -> dict:
+            cases: str = DEFAULT_CASES, transfers: bool = False, others: bool = True) -> dict:
     """All figures for one thread count (this process initialises Taichi)."""
     from intrusim.mpm.backend import ensure_initialized
 
@@ -280,22 +283,24 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
         out["cases"][label] = row
         del solver
-        if arch == "cpu":  # G2P and P2G one point per loop iteration against the vectorised ones (8 points), same run
+        if not others:
+            pass
+        elif arch == "cpu":  # G2P and P2G one point per loop iteration against the vectorised ones (8 points), same run
             pair = time_alternating({lanes: bed_solver(domain, cells, bed, arch, simd_lanes=lanes) for lanes in (True, False)})
             row["lanes_pair_ms_per_step"] = (pair[True] * 1e3, pair[False] * 1e3)
-        if arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
+        if others and arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
             atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
             row["atomic_p2g_ms_per_step"] = time_steps(atomic) * 1e3
             del atomic
-        # float atomic adds (backend.deterministic_sums = False): not bit-reproducible
-        floats = bed_solver(domain, cells, bed, arch, p2g_chunks=1, deterministic_sums=False)
-        row["float_atomic_ms_per_step"] = time_steps(floats) * 1e3
-        del floats
-        # the same step with one Python call per kernel instead of one compiled graph
-        direct = bed_solver(domain, cells, bed, arch, step_graph=False)
-        row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
-        del direct
-        if transfers:  # each other transfer against the default, alternate rounds (FLIP and linear: one-point kernels)
+        if others:  # float atomic adds (backend.deterministic_sums = False): not bit-reproducible
+            floats = bed_solver(domain, cells, bed, arch, p2g_chunks=1, deterministic_sums=False)
+            row["float_atomic_ms_per_step"] = time_steps(floats) * 1e3
+            del floats
+            # the same step with one Python call per kernel instead of one compiled graph
+            direct = bed_solver(domain, cells, bed, arch, step_graph=False)
+            row["direct_launch_ms_per_step"] = time_steps(direct) * 1e3
+            del direct
+        if transfers:  # each other transfer against the default, alternate rounds (linear: one-point kernels)
             solvers = {"default": bed_solver(domain, cells, bed, arch)}
             solvers.update({k: bed_solver(domain, cells, bed, arch, transfer=t, simd_lanes=lanes)
                             for k, (t, lanes) in TRANSFERS.items()})
@@ -318,7 +323,9 @@ def main() -> None:
     ap.add_argument("--no-numpy", action="store_true", help="skip the (slow) NumPy baseline")
     ap.add_argument("--repeat", type=int, default=1, help="run the whole benchmark this many times and summarise")
     ap.add_argument("--rate-laws", action="store_true", help="also time the step with mu(I) and with the nonlocal fluidity")
-    ap.add_argument("--transfers", action="store_true", help="also time the step with FLIP and with linear shape functions")
+    ap.add_argument("--transfers", action="store_true", help="also time the step with APIC, FLIP and linear shape functions")
+    ap.add_argument("--only-transfers", action="store_true",
+                    help="--transfers without the other comparisons (one-point kernels, atomics, kernel calls)")
     ap.add_argument("--cases", default=DEFAULT_CASES,
                     help=f"comma-separated bed sizes from {', '.join(CASES)} (NumPy baseline up to {NUMPY_MAX_POINTS:,} points)")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -331,7 +338,7 @@ def main() -> None:
     if args.child is not None:
         threads = None if args.child == "all" else int(args.child)
         print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy, args.rate_laws, args.cases,
-                                 args.transfers)))
+                                 args.transfers or args.only_transfers, not args.only_transfers)))
         return
     runs = []
     for k in range(args.repeat):
@@ -342,6 +349,7 @@ def main() -> None:
             cmd += ["--no-numpy"] if args.no_numpy else []
             cmd += ["--rate-laws"] if args.rate_laws else []
             cmd += ["--transfers"] if args.transfers else []
+            cmd += ["--only-transfers"] if args.only_transfers else []
             env = {**os.environ, "INTRUSIM_TI_THREADS": ""}
             proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
             if proc.returncode != 0:
@@ -371,6 +379,11 @@ def summarise(runs: list[list[dict]]) -> None:
                 met_numpy = sum(r["speedup_vs_numpy"] >= TARGET_X_NUMPY for r in rows)
                 line += f", >= {TARGET_X_NUMPY:g}x NumPy in {met_numpy} of {len(rows)}"
             print(line)
+            if all("transfers_ms_per_step" in r for r in rows):  # each transfer's step / the default's, same run
+                for name in rows[0]["transfers_ms_per_step"]:
+                    if name != "default":
+                        ratios = [r["transfers_ms_per_step"][name] / r["transfers_ms_per_step"]["default"] for r in rows]
+                        print(f"{first['threads']} threads, {label}: {name} / the default: {_spread(ratios)}")
 
 
 def _spread(values: list[float]) -> str:
@@ -406,6 +419,8 @@ def report(results: list[dict], arch: str) -> None:
                       f"{scalar / lanes:.2f}x")
     for r in results:
         for label, c in r["cases"].items():
+            if "direct_launch_ms_per_step" not in c:
+                continue
             print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
                   f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph")
     for r in results:
@@ -419,7 +434,8 @@ def report(results: list[dict], arch: str) -> None:
             if t:
                 print(f"{r['threads']} threads, {label}: " + ", ".join(
                     f"{name} {ms:.2f} ms/step ({ms / t['default']:.2f}x)" for name, ms in t.items() if name != "default")
-                    + f"; the default (APIC, quadratic, vectorised) {t['default']:.2f} (alternate rounds, best of 5)")
+                    + f"; the default (FLIP with a PIC share per step falling with dt, quadratic, vectorised) "
+                    f"{t['default']:.2f} (alternate rounds, best of 5)")
     for r in results:
         print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
               f"Taichi runtime copy {r['runtime_copy_GBs']:.1f} GB/s, host memcpy {r['memcpy_GBs']:.1f} GB/s "

@@ -15,7 +15,9 @@ from intrusim.scenarios.mpm_locomotion import quick_settings, run_mpm_steady
 def free_run(tmp_path_factory):
     """A coarse free wheel on the treadmill, 0.8 s at 30 RPM, its checkpoint at the end."""
     out = tmp_path_factory.mktemp("free") / "run"
-    s = quick_settings("wheel").validated_copy(t_max=0.8, settle_time=0.3, treadmill=(0.2, 0.17))
+    # APIC (flip 0), the transfer these distances were set for: the held wheel (3x the free one's speed)
+    # must pass the treadmill's trigger more than once
+    s = quick_settings("wheel").validated_copy(t_max=0.8, settle_time=0.3, treadmill=(0.2, 0.17), flip=0.0)
     run_mpm_steady(grousered_wheel_scenario(), s, 30.0, out)
     return out
 

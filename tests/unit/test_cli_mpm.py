@@ -115,7 +115,7 @@ def test_flip_reaches_the_solver_config_and_a_share_outside_0_1_is_refused():
 
     case = _case("wheel", True, None, None, None, flip=1.0)
     assert mpm_config(case.scenario, case.mpm, 30.0).transfer.flip == 1.0
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.flip == 0.0
+    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.flip is None  # the default
     for cmd in ("steady", "sweep"):
         r = runner.invoke(app, ["mpm", cmd, "--quick", "--flip", "1.5"])
         assert r.exit_code == 2 and "flip must be in [0, 1]" in r.output

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
+from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle, TransferConfig
 from intrusim.mpm.reference_numpy import numpy_step
 from intrusim.mpm.solver import Solver
 
@@ -11,6 +11,7 @@ def test_one_step_matches_numpy_reference():
     cfg = MPMConfig(
         domain=DomainConfig(size=(0.2, 0.2), cells=(20, 20)),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=0.2, z1=0.1)]),
+        transfer=TransferConfig(flip=0.0),  # the NumPy reference step is APIC's
     )
     s = Solver(cfg)
     d = s.particles.to_numpy()

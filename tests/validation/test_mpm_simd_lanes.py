@@ -282,6 +282,7 @@ from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel"), 60.0, None)
 cfg.backend.step_graph = sys.argv[1] == "graph"
+cfg.transfer.flip = None if sys.argv[2] == "default" else 0.0
 solver = Solver(cfg)
 for _ in range(3):
     solver.step()
@@ -289,8 +290,8 @@ assert ti.lang.impl.current_cfg().real_matrix_scalarize  # switched back after c
 """
 
 
-@pytest.mark.parametrize("path", ["graph", "direct"])
-def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
+@pytest.mark.parametrize("path,transfer", [("graph", "apic"), ("direct", "apic"), ("graph", "default")])
+def test_the_step_compiles_the_kernel_once_as_vector_code(path, transfer, tmp_path):
     # a fresh process and kernel cache; Taichi writes the optimised LLVM IR of each kernel it compiles.
     # Unscalarised, every square root of the law (G2P) and every floor of a position (both kernels) is
     # one 8-wide vector op; a kernel compiled with Taichi's default (scalarised, then partly
@@ -299,7 +300,8 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
     script = tmp_path / "step.py"
     script.write_text(_COMPILE_THE_STEP)
     env = {**os.environ, "TI_OFFLINE_CACHE_FILE_PATH": str(tmp_path / "cache")}
-    done = subprocess.run([sys.executable, str(script), path], cwd=tmp_path, env=env, capture_output=True, text=True)
+    done = subprocess.run([sys.executable, str(script), path, transfer], cwd=tmp_path, env=env, capture_output=True,
+                          text=True)
     assert done.returncode == 0, done.stderr[-2000:]
     ir = [f.read_text() for f in tmp_path.glob("*.ll")]
     g2p = [text for text in ir if "define void @g2p_density_stress" in text]
@@ -309,9 +311,13 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, tmp_path):
     assert "@llvm.floor.v8f32" in p2g[0] and "@llvm.floor.f32(" not in p2g[0]
     # the particles in blocks of 8 (particles.py): each component of a block is one vector load or
     # store, G2P reads 9 (x 2, m, V, sigma 3, s_yy, eps_p) and writes 15, P2G reads 13 (x 2, v 2, C 4,
-    # m, V, sigma 3); P2G adds into 9 nodes per point as one 4-wide record each (grid.record_width)
-    assert g2p[0].count("load <8 x float>") == 9 and g2p[0].count("store <8 x float>") == 15
-    assert p2g[0].count("load <8 x float>") == 13 and p2g[0].count("load <4 x float>") == 9 * LANES
+    # m, V, sigma 3); P2G adds into 9 nodes per point as one 4-wide record each (grid.record_width);
+    # the default transfer's G2P also reads the points' own velocity (2), and its P2G adds FLIP's
+    # momentum into the same records, 8 wide (Grid.flip_in_records)
+    flip = transfer == "default"
+    assert g2p[0].count("load <8 x float>") == 9 + 2 * flip and g2p[0].count("store <8 x float>") == 15
+    assert p2g[0].count("load <8 x float>") == 13 + 9 * LANES * flip
+    assert p2g[0].count("load <4 x float>") == 9 * LANES * (not flip)
 
 
 def test_wheel_run_follows_the_one_point_run():

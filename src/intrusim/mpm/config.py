@@ -137,7 +137,7 @@ class BedConfig(_Model):
         return v
 
 
-WallKind = Literal["frictionless", "sticky", "coulomb"]
+WallKind = Literal["frictionless", "sticky", "coulomb", "open"]
 
 
 class WallConfig(_Model):
@@ -146,11 +146,16 @@ class WallConfig(_Model):
 
 
 class BoundaryConfig(_Model):
-    """Domain walls. The top of the domain is open (particles above it are a guard failure)."""
+    """Domain walls. A side of kind "open" has no wall: points that leave through it are removed and
+    their mass counted as outflow (``Solver.outflow``, the time series' ``outflow_mass``). The top has
+    no wall; ``top = "open"`` makes it an outflow side too (else a point above it is an escape,
+    ``output.escaped``)."""
 
     left: WallConfig = Field(default_factory=WallConfig)
     right: WallConfig = Field(default_factory=WallConfig)
     floor: WallConfig = Field(default_factory=lambda: WallConfig(kind="sticky"))
+    top: Literal["escape", "open"] = Field(
+        "escape", description="escape: a point above the top is an escape (output.escaped); open: it leaves as outflow")
 
 
 class ObstacleConfig(_Model):
@@ -252,14 +257,21 @@ SHAPES: tuple[str, ...] = get_args(Shape)
 
 
 class TransferConfig(_Model):
-    flip: float = Field(
-        0.0, ge=0.0, le=1.0,
+    flip: float | None = Field(
+        None, ge=0.0, le=1.0,
         description="share of FLIP in the points' new velocity: v_p <- flip (v_p + sum w (v_i - v_i_old)) + "
-        "(1 - flip) sum w v_i, with v_i_old the grid velocity P2G gave, before forces and contact. 0: APIC "
-        "(the default; the grid's velocity replaces the point's every step, which damps flow at the grid's "
-        "scale by an amount that grows as dt falls: docs/mpm.md); 1: FLIP, as the mpm-2d code of the paper's "
-        "group. The affine matrix C and the positions follow the grid velocity either way. FLIP runs the "
-        "one-point kernels (the vectorised G2P is APIC only)",
+        "(1 - flip) sum w v_i, with v_i_old the grid velocity P2G gave, before forces and contact. None (the "
+        "default): exp(-dt / tau), tau = pic_time h sqrt(rho_c / E), so that the PIC part damps at a rate per "
+        "second that does not depend on dt; 0: APIC (the default before: the grid's velocity replaces the "
+        "point's every step, which damps flow at the grid's scale by an amount that grows as dt falls: "
+        "docs/mpm.md); 1: FLIP, as the mpm-2d code of the paper's group. The affine matrix C and the positions "
+        "follow the grid velocity either way",
+    )
+    pic_time: float = Field(
+        10.0, gt=0.0,
+        description="with flip = None: the time over which the PIC part relaxes a point's own velocity to the "
+        "grid's, in elastic cell-crossing times h sqrt(rho_c / E) (at the default cfl 0.3, 10 gives a PIC "
+        "share of 3 % per step; it falls with dt, so the damping per second stays the same)",
     )
     shape: Shape = Field(
         "quadratic",

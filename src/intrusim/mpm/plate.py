@@ -45,7 +45,7 @@ class PlateDragCase:
     ramp_fraction: float = 0.25  # ramp time = ramp_fraction * plate_length / speed
     contact_band_cells: float = 1.0  # nodes this close outside the plate are in contact (docs/mpm.md)
     cfl: float = 0.3  # C in dt = C h sqrt(rho / E) (TimeConfig.cfl)
-    flip: float = 0.0  # FLIP's share of the velocity update (TransferConfig.flip; 0: APIC)
+    flip: float | None = None  # FLIP's share of the velocity update (TransferConfig.flip; None: the default; 0: APIC)
     shape: str = "quadratic"  # shape functions of the transfers (TransferConfig.shape)
 
     def config(self, directory: str | None = None, **backend) -> MPMConfig:

@@ -15,7 +15,7 @@ import numpy as np
 
 from .backend import ensure_initialized
 from .bed import build_bed
-from .boundaries import Walls
+from .boundaries import SIDES, Walls
 from .config import MPMConfig, PrescribedMotion
 from .constitutive import NonlocalFluidity, material_from_config, pressure
 from .contact import PolygonContact
@@ -23,7 +23,7 @@ from .diagnostics import (
     SimulationError, body_report, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
-from .grid import Grid, grid_update_kernel
+from .grid import PAD, Grid, grid_update_kernel
 from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
@@ -34,6 +34,26 @@ from intrusim.validation import check_run_size
 
 FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's grid field
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
+
+
+def flip_share(cfg: MPMConfig, dt: float) -> float:
+    """FLIP's share of the points' velocity update per step (``TransferConfig``): ``transfer.flip`` where
+    given, else exp(-dt / tau) with tau = ``transfer.pic_time`` elastic cell-crossing times h sqrt(rho_c / E),
+    so that the PIC part relaxes the points' own velocity towards the grid's at a rate per second that
+    does not depend on dt (docs/mpm.md, "The velocity transfer")."""
+    if cfg.transfer.flip is not None:
+        return float(cfg.transfer.flip)
+    tau = cfg.transfer.pic_time * cfg.domain.h * math.sqrt(cfg.material.rho_c / cfg.material.youngs_modulus)
+    return math.exp(-dt / tau)
+
+
+def grid_padding(cfg: MPMConfig, walls: Walls) -> int:
+    """Cells of padding around the domain: ``grid.PAD``, and where a side is open, enough more that a
+    point leaving through it keeps its full stencil (a point moves at most ``max_cell_fraction`` cells
+    a step, the CFL guard) until the next guard removes it, ``guard_every_steps`` later."""
+    if not walls.open_sides:
+        return PAD
+    return PAD + math.ceil(cfg.output.escape_margin_cells + cfg.output.guard_every_steps * cfg.time.max_cell_fraction)
 
 
 def time_step_limits(cfg: MPMConfig) -> dict[str, float]:
@@ -71,14 +91,20 @@ class Solver:
         # atomic sums (one grid copy) in 64-bit fixed point: exact in any order, so runs are reproducible
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
-        self.flip = cfg.transfer.flip
+        self.walls = Walls(cfg.boundaries)
+        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
+        # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs),
+        # and quadratic splines only (linear shape functions run the one-point kernels)
+        self.linear = cfg.transfer.shape == "linear"
+        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
+                       and not self.linear)
         self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
-                         flip=self.flip > 0)
+                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0, pad=grid_padding(cfg, self.walls),
+                         flip_in_records=self._lanes)
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)
-        self.walls = Walls(cfg.boundaries)
         band = cfg.contact_band_cells * self.h
         self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
         self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies)
@@ -96,12 +122,7 @@ class Solver:
         if cfg.time.dt is not None and cfg.time.dt > dt_max * (1 + 1e-12):
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
-        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
-        # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs)
-        # and APIC on quadratic splines only (FLIP and linear shape functions run the one-point kernels)
-        self.linear = cfg.transfer.shape == "linear"
-        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-                       and self.flip == 0 and not self.linear)
+        self.flip = flip_share(cfg, self.dt)  # FLIP's share of the points' velocity update
         self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0,
                                self.linear)
         self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
@@ -117,6 +138,7 @@ class Solver:
         self._step_mark = 0
         self.x_offset = 0.0  # m, how far shift_window has moved the scene back (bed frame x = x + x_offset)
         self.dropped = {"points": 0, "mass": 0.0}  # escaped points left out (output.escaped = "drop"); mass kg/m
+        self.outflow = {"points": 0, "mass": 0.0}  # points gone through open sides (BoundaryConfig); mass kg/m
         self.run_dir = Path(cfg.output.directory) if cfg.output.directory else None
 
     # ------------------------------------------------------------------ the MPM step
@@ -195,9 +217,9 @@ class Solver:
         p = self.particles
         guard_scan(p.x, p.v, p.sigma, p.n, lx, lz, self.cfg.output.escape_margin_cells * self.h, self._scratch)
         out = self._scratch.to_numpy()
-        if out[0] == 0 and out[1] > 0 and self.cfg.output.escaped == "drop":
-            self._drop_escaped(lx, lz, self.cfg.output.escape_margin_cells * self.h)
-            out[1] = 0
+        if out[0] == 0 and out[1] > 0 and (self.walls.open_sides or self.cfg.output.escaped == "drop"):
+            if self._remove_leaving(lx, lz, self.cfg.output.escape_margin_cells * self.h):
+                out[1] = 0
         grains_ok = out[0] == 0 and out[1] == 0 and out[2] * self.dt <= self.cfg.time.max_cell_fraction * self.h
         diag = body_report(self.intruders, lx, lz, self.dt, self.h)  # the bodies' guards: NaN, escape, CFL
         if grains_ok and diag is None:
@@ -212,14 +234,33 @@ class Solver:
             where = f"; state saved to {path}"
         raise SimulationError(f"{diag} at t={self.t:.6g} s (step {self.step_count}){where}")
 
-    def _drop_escaped(self, lx: float, lz: float, margin: float) -> None:
-        """Leave out the points more than ``margin`` outside [0, lx] x [0, lz] (output.escaped = "drop"),
-        count them in ``dropped`` and say so on stderr."""
+    def _remove_leaving(self, lx: float, lz: float, margin: float) -> bool:
+        """Remove the points more than ``margin`` outside [0, lx] x [0, lz]: beyond an open side
+        (``BoundaryConfig``) as outflow, counted in ``outflow``; elsewhere as escapes with
+        output.escaped = "drop" (counted in ``dropped``, a line on stderr). False, and nothing removed,
+        if a point escaped through a side that is not open and escapes stop the run."""
         d = self.particles.to_numpy()
         x = d["x"]
-        out = (x[:, 0] < -margin) | (x[:, 0] > lx + margin) | (x[:, 1] < -margin) | (x[:, 1] > lz + margin)
+        beyond = dict(zip(SIDES, (x[:, 0] < -margin, x[:, 0] > lx + margin, x[:, 1] < -margin, x[:, 1] > lz + margin)))
+        outflow = np.zeros(len(x), dtype=bool)
+        for side in self.walls.open_sides:
+            outflow |= beyond[side]
+        out = (beyond["left"] | beyond["right"] | beyond["floor"] | beyond["top"]) & ~outflow
+        if out.any() and self.cfg.output.escaped != "drop":
+            return False
+        if (outflow | out).all():
+            raise SimulationError(f"every point has left the domain at t={self.t:.6g} s (step {self.step_count})")
+        self.outflow["points"] += int(outflow.sum())
+        self.outflow["mass"] += float(d["mass"][outflow].sum())
+        self._replace_particles({k: a[~(outflow | out)] for k, a in d.items()})
+        if out.any():
+            self._count_dropped(out, d)
+        return True
+
+    def _count_dropped(self, out: np.ndarray, d: dict[str, np.ndarray]) -> None:
+        """Count the escaped points ``out`` of the state ``d`` (removed) in ``dropped``; say so on stderr."""
+        x = d["x"]
         n, mass = int(out.sum()), float(d["mass"][out].sum())
-        self._replace_particles({k: a[~out] for k, a in d.items()})
         self.dropped["points"] += n
         self.dropped["mass"] += mass
         i = int(np.flatnonzero(out)[0])
@@ -251,6 +292,8 @@ class Solver:
                 row.update({f"{pre}{n}{suffix}": f[i] * body.width for i, n in enumerate(("fx", "fz", "moment"))})
         ke, mass = self.grain_energy_and_mass()
         row.update({"kinetic_energy": ke, "grain_mass": mass})
+        if self.walls.open_sides:  # grain_mass + outflow_mass is the mass of the start (less any dropped)
+            row["outflow_mass"] = self.outflow["mass"] * (self.intruders[0].width if self.intruders else 1.0)
         self._step_mark = self.step_count
         self.rows.append(row)
         return row
@@ -408,6 +451,7 @@ class Solver:
             "config": mpm_io.checkpoint_config(self.cfg),
             "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
             "step_mark": self._step_mark, "x_offset": self.x_offset, "dropped": self.dropped,
+            "outflow": self.outflow,
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
             "impulse_ahead": [b.contact.read_impulse_ahead().tolist() for b in self.intruders],
@@ -447,6 +491,7 @@ class Solver:
             self._replace_particles(arrays)
         self.x_offset = float(meta.get("x_offset", 0.0))
         self.dropped = dict(meta.get("dropped", {"points": 0, "mass": 0.0}))
+        self.outflow = dict(meta.get("outflow", {"points": 0, "mass": 0.0}))
         self.step_count = int(meta["step_count"])
         self.rows = list(meta["rows"])
         self._step_mark = int(meta["step_mark"])

@@ -1,10 +1,13 @@
-"""Particle <-> grid transfers with quadratic B-splines and APIC (MLS-MPM form); linear (tent)
-shape functions as an option (``TransferConfig.shape``, one-point kernels only).
+"""Particle <-> grid transfers with quadratic B-splines and the affine momentum of APIC (MLS-MPM
+form); linear (tent) shape functions as an option (``TransferConfig.shape``, one-point kernels only).
 
-APIC (Jiang et al. 2015) is used rather than a FLIP/PIC blend: it conserves linear and angular
-momentum, has no FLIP noise or PIC damping parameter to tune, and its affine matrix C is the
-velocity gradient the constitutive update needs. Internal forces use the MLS-MPM gradient
-(Hu et al. 2018): grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines in APIC.
+The points' velocity update is FLIP with a PIC share that falls with dt (the default,
+``TransferConfig.flip = None``: v_p <- sum w v_i + s (v_p - sum w v_old_i), s = exp(-dt / tau)), so that
+the damping per second, and the answers, do not depend on dt (docs/mpm.md, "The velocity transfer");
+a fixed share is an option (0: APIC, Jiang et al. 2015; 1: FLIP). P2G scatters the affine momentum
+m_p (v_p + C_p (x_i - x_p)) either way, and C_p is the grid's velocity gradient, which the
+constitutive update needs. Internal forces use the MLS-MPM gradient (Hu et al. 2018):
+grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines.
 """
 
 
@@ -165,8 +168,9 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
     """The P2G kernel, chunked (CPU), atomic (a GPU) or atomic in fixed point (a GPU, deterministic):
     one compiled kernel each. ``lanes`` (chunked only): its arithmetic vectorised over LANES points
     (:func:`scatter_chunk_lanes`; compile it unscalarised, as ``g2p_kernel(..., lanes=True)``).
-    ``flip`` (one-point only): it also sums the momentum before forces into its last argument
-    (``Grid.mo_parts``, FLIP's old grid velocity); without it that argument is not touched.
+    ``flip``: it also sums the momentum before forces into its last argument (``Grid.mo_parts``, FLIP's
+    old grid velocity), or with ``lanes`` into the records' 5th and 6th numbers where they are 8 wide
+    (``Grid.flip_in_records``); without it that argument is not touched.
     ``linear`` (one-point only): linear shape functions (:func:`scatter_point_linear`).
 
     A factory rather than a ``ti.template()`` flag, so that the kernel can be recorded in a
@@ -175,8 +179,6 @@ def p2g_kernel(chunked: bool, fixed: bool = False, lanes: bool = False, flip: bo
     mode = sum_mode(chunked, fixed)
     if lanes and mode != PLAIN:
         raise ValueError("the vectorised P2G is the chunked one (private copies, no atomics)")
-    if lanes and flip:
-        raise ValueError("the vectorised P2G is APIC only: FLIP runs the one-point kernel")
     if lanes and linear:
         raise ValueError("the vectorised P2G is quadratic only: linear shape functions run the one-point kernel")
     key = (mode, lanes, flip, linear)
@@ -216,7 +218,7 @@ def _make_p2g_kernel(mode: int, lanes: bool, flip: bool, linear: bool):
                     first, end = chunk_blocks(c, nc, x.shape[0])
                     if ti.static(lanes):
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_lanes(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt)
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, gmo, flip)
                     else:
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
                             c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip,
@@ -262,6 +264,33 @@ def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(),
 
 
 @ti.func
+def p2g_lanes_records_flip(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
+                           vol: ti.template(), sigma: ti.template(), nx, ny, h, pad, dt):
+    """:func:`p2g_lanes_records` and, per node (a, b), FLIP's momentum before forces
+    w (m_p v_p + m_p C_p (x_i - x_p)) (the records with the affine part m_p C_p alone), from one
+    evaluation of the stencil."""
+    inv_h = 1.0 / h
+    b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, nx, ny)
+    mp = mass[blk, 0]
+    kv = dt * vol[blk, 0] * 4.0 * inv_h * inv_h
+    m00, m01, m10, m11 = mp * C[blk, 0], mp * C[blk, 1], mp * C[blk, 2], mp * C[blk, 3]
+    a00 = m00 - kv * sigma[blk, XX]
+    a01 = m01 - kv * sigma[blk, XZ]
+    a10 = m10 - kv * sigma[blk, XZ]
+    a11 = m11 - kv * sigma[blk, ZZ]
+    mvx, mvz = mp * v[blk, 0], mp * v[blk, 1]
+    q0x = mvx - h * (a00 * f0 + a01 * f1)
+    q0z = mvz - h * (a10 * f0 + a11 * f1)
+    o0x = mvx - h * (m00 * f0 + m01 * f1)
+    o0z = mvz - h * (m10 * f0 + m11 * f1)
+    records = [(w0[a] * w1[b] * (q0x + h * (a * a00 + b * a01)), w0[a] * w1[b] * (q0z + h * (a * a10 + b * a11)),
+                w0[a] * w1[b] * mp) for a in ti.static(range(3)) for b in ti.static(range(3))]
+    olds = [(w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
+            for a in ti.static(range(3)) for b in ti.static(range(3))]
+    return b0, b1, records, olds
+
+
+@ti.func
 def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, lo0, hi0, lo1, hi1):
     """The 9 records of each lane of a block (points p0 ... p0 + LANES - 1 below ``end``), point after
     point, into copy c of ``gmp`` (one vector load, add and store per node, ``grid.record_width``) at their
@@ -280,15 +309,44 @@ def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, l
 
 
 @ti.func
+def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b0, b1, records, olds, nx, ny,
+                           lo0, hi0, lo1, hi1):
+    """:func:`add_block_records`, and FLIP's momenta ``olds`` into copy c of ``gmo`` at the same nodes."""
+    for k in ti.static(range(LANES)):
+        if p0 + k < end:
+            i, j = ti.cast(b0[k], ti.i32), ti.cast(b1[k], ti.i32)
+            first = record_index(c, i, j, nx, ny)
+            for a in ti.static(range(3)):
+                for b in ti.static(range(3)):
+                    r, rec, old = first + a * ny + b, records[a * 3 + b], olds[a * 3 + b]
+                    if ti.static(gmp.element_shape()[0] == 8):  # one record (Grid.flip_in_records)
+                        zero = 0.0 * rec[2][k]
+                        gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k], zero, old[0][k], old[1][k],
+                                                     zero, zero])
+                    else:
+                        gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
+                        gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
+            lo0, lo1 = ti.min(lo0, i), ti.min(lo1, j)
+            hi0, hi1 = ti.max(hi0, i + 3), ti.max(hi1, j + 3)
+    return lo0, hi0, lo1, hi1
+
+
+@ti.func
 def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
-                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt):
+                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt,
+                        gmo: ti.template(), flip: ti.template()):
     """The points of blocks [first, end) (below n) into grid copy c, a block at a time
     (:func:`p2g_lanes_records`), each point's 9 records still added one after the other in point
     order; returns the node box (i0, i1, j0, j1)."""
     i0, i1, j0, j1 = nx, 0, ny, 0
     for blk in range(first, end):
-        b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
-        i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
+        if ti.static(flip):
+            b0, b1, records, olds = p2g_lanes_records_flip(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+            i0, i1, j0, j1 = add_block_records_flip(gmp, gmo, c, blk * LANES, n, b0, b1, records, olds, nx, ny,
+                                                    i0, i1, j0, j1)
+        else:
+            b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
+            i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
     return i0, i1, j0, j1
 
 
@@ -403,20 +461,26 @@ def lane_nodes(base):
 
 
 @ti.func
-def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad):
+def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad, gv_old: ti.template(), flip: ti.template()):
     """:func:`g2p_point` for the LANES points of block ``blk``, each component a vector over them:
-    returns (v_x, v_z) and the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order).
-    The grid is read one lane at a time (a gather); everything else is vector arithmetic."""
+    returns (v_x, v_z), the rows of C_p = (4/h) [sum w v_i o^T - v_p f^T] (same sums, same order) and,
+    with ``flip``, sum w v_old_i (else zeros). The grid is read one lane at a time (a gather);
+    everything else is vector arithmetic."""
     inv_h = 1.0 / h
     b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, gv.shape[0], gv.shape[1])
     i0, i1 = lane_nodes(b0), lane_nodes(b1)
     zero = ti.Vector([0.0] * LANES)
     s0x, s0z, sax, saz, sbx, sbz = zero, zero, zero, zero, zero, zero
+    ox, oz = zero, zero  # FLIP: sum w v_old_i
     for a in ti.static(range(3)):
         r0x, r0z, rbx, rbz = zero, zero, zero, zero  # sum_b w_b v_ab, sum_b w_b v_ab b
         for b in ti.static(range(3)):
             gx = ti.Vector([gv[i0[k] + a, i1[k] + b][0] for k in ti.static(range(LANES))])
             gz = ti.Vector([gv[i0[k] + a, i1[k] + b][1] for k in ti.static(range(LANES))])
+            if ti.static(flip):
+                wab = w0[a] * w1[b]
+                ox += wab * ti.Vector([gv_old[i0[k] + a, i1[k] + b][0] for k in ti.static(range(LANES))])
+                oz += wab * ti.Vector([gv_old[i0[k] + a, i1[k] + b][1] for k in ti.static(range(LANES))])
             wx, wz = w1[b] * gx, w1[b] * gz
             r0x += wx
             r0z += wz
@@ -431,7 +495,8 @@ def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad):
         sbx += w0[a] * rbx
         sbz += w0[a] * rbz
     k = 4.0 * inv_h
-    return s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1)
+    return (s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1),
+            ox, oz)
 
 
 @ti.func
@@ -496,15 +561,13 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
     Both forms update every slot of the blocks, the last block's pads too (copies of the last point,
     they stay copies).
 
-    ``flip`` (one-point only): the last two arguments, the grid velocity before forces (``Grid.v_old``)
-    and FLIP's share of the new velocity (``TransferConfig.flip``), are used; without it they are not
+    ``flip``: the last two arguments, the grid velocity before forces (``Grid.v_old``)
+    and FLIP's share of the new velocity (``Solver.flip``), are used; without it they are not
     touched (placeholders). ``linear`` (one-point only): linear shape functions (:func:`g2p_point_linear`).
     """
     key = (stress_update, n_params, lanes, flip, linear)
     if key in _G2P_KERNELS:
         return _G2P_KERNELS[key]
-    if flip and lanes:
-        raise ValueError("the vectorised G2P is APIC only: FLIP runs the one-point kernel")
     if linear and lanes:
         raise ValueError("the vectorised G2P is quadratic only: linear shape functions run the one-point kernel")
     gather = g2p_point_linear if linear else g2p_point
@@ -548,13 +611,16 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range(x.shape[0]):
-                v0, v1, l00, l01, l10, l11 = g2p_lanes(x, blk, gv, h, pad)
+                v0, v1, l00, l01, l10, l11, o0, o1 = g2p_lanes(x, blk, gv, h, pad, gv_old, flip)
                 m = mass[blk, 0]
                 # v_p *= exp(dt tr D), <= m_p / rho_floor
                 vp = ti.min(vol[blk, 0] * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
                 t_xx, t_zz, t_xz, t_yy, dgamma = law(sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0],
                                                      l00, l01, l10, l11, m / vp, dt, prm)
-                v[blk, 0], v[blk, 1] = v0, v1
+                if ti.static(flip):  # v_p <- sum w v_i + share (v_p - sum w v_old_i)
+                    v[blk, 0], v[blk, 1] = v0 + share * (v[blk, 0] - o0), v1 + share * (v[blk, 1] - o1)
+                else:
+                    v[blk, 0], v[blk, 1] = v0, v1
                 C[blk, 0], C[blk, 1], C[blk, 2], C[blk, 3] = l00, l01, l10, l11
                 x[blk, 0], x[blk, 1] = x[blk, 0] + dt * v0, x[blk, 1] + dt * v1
                 vol[blk, 0] = vp

@@ -68,8 +68,11 @@ class MPMSettings(Config):
         short box; the time series' x stays in the bed's frame. None: the body runs to the wall.
     chunk : s, run-control interval (progress, stop test, particle snapshots for dh).
     cfl : C of dt = C h sqrt(rho_c / E).
-    flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; 0: APIC, as the
-        paper-set-up runs; 1: FLIP, the method of the paper's group's mpm-2d code).
+    flip : FLIP's share of the points' velocity update (``TransferConfig.flip``; None: the default
+        transfer, FLIP with a PIC share per step that falls with dt; 0: APIC, the former default;
+        1: FLIP, the method of the paper's group's mpm-2d code).
+    pic_time : the default transfer's relaxation time in elastic cell-crossing times
+        (``TransferConfig.pic_time``; None: its default).
     shape : shape functions of the transfers (``TransferConfig.shape``): "quadratic" (B-splines, as
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
@@ -103,7 +106,8 @@ class MPMSettings(Config):
     treadmill: tuple[float, float] | None = None
     chunk: float = Field(0.05, gt=0.0)
     cfl: float = Field(0.3, gt=0.0, le=1.0)
-    flip: float = Field(0.0, ge=0.0, le=1.0)
+    flip: float | None = Field(None, ge=0.0, le=1.0)
+    pic_time: float | None = Field(None, gt=0.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
     contact_band_cells: float = Field(1.0, ge=0.0)
@@ -238,7 +242,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
         gravity=(0.0, -scenario.gravity),
         contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0, max_steps=s.max_steps),
-        transfer=TransferConfig(flip=s.flip, shape=s.shape),
+        transfer=TransferConfig(flip=s.flip, shape=s.shape, **({} if s.pic_time is None else {"pic_time": s.pic_time})),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5,
                             escaped="drop" if s.drop_escaped else "stop"),
         backend=BackendConfig(arch=s.arch, precision=s.precision, cpu_threads=s.cpu_threads),

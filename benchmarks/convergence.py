@@ -1,0 +1,308 @@
+"""Convergence of the MPM's answers in the time step and the cell size (issue 52; not in CI).
+
+Each named case is run at cells h, h/2 (h/4 with ``--levels 3``) and at each of them with dt and dt/2
+(dt = C h sqrt(rho_c / E), C = 0.3 and 0.15; ``--dt-levels N``: dt/2 only at the N coarsest cells).
+Every run's numbers are kept in ``runs/convergence/results.json`` (a run already there is not run
+again), and ``--write docs/convergence.md`` rewrites that file's table from every result kept there:
+each number, its change per dt halving and per h halving, against the issue's targets.
+
+Cases (``--cases``):
+
+* ``collapse``: a 0.1 m square column of the Table S1 material (rho_c 638 kg/m^3, mu_s 0.56,
+  E 1 MPa) on a sticky floor against a frictionless wall, 0.6 s (at rest by then): the runout
+  (99th percentile of the points' x) and the x of the centre of mass. Base cells 10 mm.
+* ``silo``: a flat-bottomed 2D silo 0.3 m wide, filled 0.2 m deep, its floor two static obstacles
+  (0.02 m thick, grain friction 0.5) with a central slot of width D = 40, 60, 80 mm (8, 12, 16 cells
+  at the base cells, 5 mm); the box's bottom is an open side (outflow), 0.04 m below the floor.
+  The discharge rate W (kg/s per m) is the slope of the outflow mass from 0.12 to 0.35 s; the
+  exponent b of W ~ D^b is fitted over the widths (target 1.5 +- 0.1).
+* ``wheel30``, ``wheel90``: the Table S1 grousered wheel at 30 and 90 RPM
+  (``scenarios.mpm_locomotion.run_mpm_steady``, 2 s; window from 0.65 s): v and sinkage.
+  Base cells 10 mm (the paper's 5 mm is the second level).
+* ``plate``: plate drag (Fig 6 set-up, ``mpm.plate.PlateDragCase``) at 3 speeds x 3 depths: K and
+  lambda of F = K |z| + lambda rho A v^2. Base cells 5 mm (2.5 mm is Fig 6's).
+
+``--flip S`` runs every case with a fixed FLIP share S per step (0: APIC, the former default)
+instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (not the plate),
+and ``--band B`` with ``contact_band_cells = B`` instead of the default, each kept under its own key,
+for comparison.
+
+    python benchmarks/convergence.py --cases collapse silo --levels 2 --threads 1 --write docs/convergence.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "runs" / "convergence" / "results.json"
+CFL = (0.3, 0.15)  # dt and dt/2
+BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
+PIC_TIME: float | None = None  # transfer.pic_time of the runs (--pic-time); None: the config's default
+
+
+def transfer(flip: float | None):
+    from intrusim.mpm.config import TransferConfig
+
+    return TransferConfig(flip=flip, **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
+
+# targets of issue 52: |change| per dt halving, per h halving between the two finest cells
+DT_TARGET = 0.01
+H_TARGET = {"plate": 0.05, "wheel30": 0.05, "wheel90": 0.05, "footing": 0.05}
+SILO_WIDTHS = (0.04, 0.06, 0.08)  # m
+EXPONENT_TARGET = (1.5, 0.1)
+
+
+def backend(threads: int) -> dict:
+    return {"cpu_threads": threads}
+
+
+# ---------------------------------------------------------------------------------------------- cases
+def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+    from intrusim.mpm.config import (BedConfig, DomainConfig, MaterialConfig, MPMConfig, OutputConfig, Rectangle,
+                                     TimeConfig)
+    from intrusim.mpm.solver import Solver
+
+    size = (0.5, 0.15)
+    cfg = MPMConfig(
+        domain=DomainConfig(size=size, cells=(round(size[0] / h), round(size[1] / h))),
+        material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
+        bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.1, z1=0.1)]),
+        time=TimeConfig(t_end=0.6, cfl=cfl), transfer=transfer(flip),
+        output=OutputConfig(record_every=0.1), backend=backend(threads),
+    )
+    solver = Solver(cfg)
+    rows = solver.run()
+    d = solver.particle_fields()
+    x, m = d["x"][:, 0], d["mass"]
+    return {"runout_m": float(np.quantile(x, 0.99)), "centre_m": float((m * x).sum() / m.sum()),
+            "final_ke_J_per_m": rows[-1]["kinetic_energy"], "steps": solver.step_count, "points": solver.particles.n}
+
+
+def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float, band: float | None = None):
+    from intrusim.mpm.config import (BedConfig, BoundaryConfig, DomainConfig, MaterialConfig, MPMConfig,
+                                     ObstacleConfig, OutputConfig, Rectangle, TimeConfig, WallConfig)
+
+    lx, floor, thick, fill = 0.3, 0.04, 0.02, 0.2
+    lz = floor + fill + 0.06
+    a, b = (lx - width) / 2, (lx + width) / 2
+    slabs = [[(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
+             [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)]]
+    extra = {} if band is None else {"contact_band_cells": band}  # the static obstacles' band
+    return MPMConfig(
+        domain=DomainConfig(size=(lx, lz), cells=(round(lx / h), round(lz / h))),
+        material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
+        bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=floor, x1=lx, z1=floor + fill)]),
+        boundaries=BoundaryConfig(floor=WallConfig(kind="open")),
+        obstacles=[ObstacleConfig(vertices=s, mu=0.5) for s in slabs],
+        time=TimeConfig(t_end=0.35, cfl=cfl, v_max_expected=2.0), transfer=transfer(flip),
+        output=OutputConfig(record_every=0.01, guard_every_steps=20), backend=backend(threads), **extra,
+    )
+
+
+def silo(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+    from intrusim.mpm.solver import Solver
+
+    out: dict[str, float] = {}
+    for width in SILO_WIDTHS:
+        solver = Solver(silo_config(h, cfl, threads, flip, width, BAND))
+        rows = solver.run()
+        t = np.array([r["time"] for r in rows])
+        m = np.array([r["outflow_mass"] for r in rows])
+        sel = t >= 0.12  # the first grains reach the open bottom at ~0.09 s
+        out[f"W_D{width * 1e3:.0f}mm_kg_per_s_m"] = float(np.polyfit(t[sel], m[sel], 1)[0])
+        out["steps"] = solver.step_count
+    out["exponent_b"] = silo_exponent(out)
+    return out
+
+
+def silo_exponent(values: dict[str, float]) -> float:
+    rates = [values[f"W_D{w * 1e3:.0f}mm_kg_per_s_m"] for w in SILO_WIDTHS]
+    if min(rates) <= 0:
+        return float("nan")
+    return float(np.polyfit(np.log(SILO_WIDTHS), np.log(rates), 1)[0])
+
+
+def wheel(rpm: float):
+    def run(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+        from intrusim.scenarios.locomotor import grousered_wheel_scenario
+        from intrusim.scenarios.mpm_locomotion import paper_settings, run_mpm_steady
+
+        base = paper_settings("wheel")
+        cells = tuple(round(length / h) for length in base.domain)
+        settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip,
+                                       **({} if BAND is None else {"contact_band_cells": BAND}),
+                                       **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
+        st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
+        return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps,
+                "v_std_m_per_s": st.velocity_std, "drift": st.drift}
+
+    return run
+
+
+def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+    from intrusim.figures_mpm_plates import DRAG_DEPTHS, DRAG_SPEEDS_QUICK, PAPER_DRAG
+    from intrusim.mpm.plate import PlateDragCase, fit_drag_law, steady_force
+    from intrusim.mpm.solver import Solver
+
+    depth, speed, force = [], [], []
+    for d in DRAG_DEPTHS:
+        for v in DRAG_SPEEDS_QUICK:
+            case = PlateDragCase(depth=d, speed=v, travel=0.04, cells=(round(0.30 / h), round(0.15 / h)), cfl=cfl,
+                                 flip=flip, **({} if BAND is None else {"contact_band_cells": BAND}))
+            rows = Solver(case.config(**backend(threads))).run()
+            depth.append(d)
+            speed.append(v)
+            force.append(-steady_force(rows, "fx"))
+    K, lam = fit_drag_law(np.array(depth), np.array(speed), np.array(force), PAPER_DRAG["rho"], PAPER_DRAG["length"])
+    return {"K_N_per_m": K, "lambda": lam}
+
+
+CASES = {  # name: (run, base cells h in m, the quantities of the table)
+    "collapse": (collapse, 0.01, ("runout_m", "centre_m")),
+    "silo": (silo, 0.005, tuple(f"W_D{w * 1e3:.0f}mm_kg_per_s_m" for w in SILO_WIDTHS) + ("exponent_b",)),
+    "wheel30": (wheel(30.0), 0.01, ("v_m_per_s", "sinkage_m")),
+    "wheel90": (wheel(90.0), 0.01, ("v_m_per_s", "sinkage_m")),
+    "plate": (plate, 0.005, ("K_N_per_m", "lambda")),
+}
+
+
+# ------------------------------------------------------------------------------------------ the runs
+def key(case: str, h: float, cfl: float, flip: float | None) -> str:
+    variant = ("default" if flip is None else f"flip={flip:g}") + ("" if BAND is None else f"|band={BAND:g}")
+    variant += "" if PIC_TIME is None else f"|pic_time={PIC_TIME:g}"
+    return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
+
+
+def load() -> dict:
+    return json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
+
+
+def run_cases(cases: list[str], levels: int, dt_levels: int, threads: int, flip: float | None) -> dict:
+    results = load()
+    for name in cases:
+        run, h0, _ = CASES[name]
+        for level in range(levels):
+            h = h0 / 2**level
+            for cfl in CFL[: 2 if level < dt_levels else 1]:
+                k = key(name, h, cfl, flip)
+                if k in results:
+                    continue
+                t0 = time.perf_counter()
+                values = run(h, cfl, threads, flip)
+                values["wall_s"] = time.perf_counter() - t0
+                values["threads"] = threads
+                print(k, json.dumps({a: round(b, 6) for a, b in values.items()}), flush=True)
+                RESULTS.parent.mkdir(parents=True, exist_ok=True)
+                results = {**load(), k: values}  # another process may have added runs meanwhile
+                RESULTS.write_text(json.dumps(results, indent=1, sort_keys=True))
+    return results
+
+
+# ------------------------------------------------------------------------------------------ the table
+def pct(a: float | None, b: float | None) -> str:
+    if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)) or a == 0:
+        return "-"
+    return f"{100 * (b / a - 1):+.2f} %"
+
+
+def fmt(v: float | None) -> str:
+    return "not run" if v is None else f"{v:.5g}"
+
+
+def verdict(name: str, quantity: str, dt_change: float | None, h_change: float | None, value: float | None) -> str:
+    parts = []
+    if dt_change is not None:
+        parts.append("dt: " + ("met" if abs(dt_change) < DT_TARGET else "NOT met"))
+    if quantity == "exponent_b" and value is not None:
+        b0, tol = EXPONENT_TARGET
+        parts.append("b: " + ("met" if abs(value - b0) <= tol else "NOT met"))
+    if name in H_TARGET and h_change is not None:
+        parts.append("h: " + ("met" if abs(h_change) < H_TARGET[name] else "NOT met"))
+    return ", ".join(parts) or "-"
+
+
+def cell_sizes(results: dict, name: str, variant: str) -> list[float]:
+    """The cell sizes (mm) at which case ``name`` has results of ``variant``, coarsest first."""
+    hs = {float(k.split("|")[1][2:-2]) for k in results if k.startswith(name + "|") and k.split("|", 3)[3] == variant}
+    return sorted(hs, reverse=True)
+
+
+def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
+    """The rows of ``variant``'s runs; ``every_case``: a "not run" row for each case without any."""
+    lines = ["| case | quantity | h (mm) | at dt | at dt/2 | per dt halving | per h halving (at dt) | target |",
+             "|---|---|---|---|---|---|---|---|"]
+    for name, (_, h0, quantities) in CASES.items():
+        hs = cell_sizes(results, name, variant)
+        if not hs and not every_case:
+            continue
+        if not hs:
+            lines.append(f"| {name} | {', '.join(quantities)} | - | not run | not run | - | - | - |")
+            continue
+        for q in quantities:
+            prev = None
+            for h_mm in hs:
+                a, b = (results.get(f"{name}|h={h_mm:g}mm|cfl={cfl:g}|{variant}", {}).get(q) for cfl in CFL)
+                dt_change = None if a is None or b is None else b / a - 1
+                h_change = None if a is None or prev is None else a / prev - 1
+                lines.append(f"| {name} | {q} | {h_mm:g} | {fmt(a)} | {fmt(b)} | {pct(a, b)} | {pct(prev, a)} | "
+                             f"{verdict(name, q, dt_change, h_change, a)} |")
+                prev = a
+    return lines
+
+
+TITLES = {"default": "The default transfer (FLIP with a PIC share per step exp(-dt / tau)) and contact band",
+          "flip=0": "APIC (`transfer.flip = 0`, the former default), default contact band",
+          "flip=1": "FLIP (`transfer.flip = 1`), default contact band"}
+
+
+def write_doc(path: Path, results: dict) -> None:
+    """Replace the generated tables of ``path`` (between the markers) with the current ones."""
+    begin, end = "<!-- convergence table: begin -->", "<!-- convergence table: end -->"
+    variants = sorted({k.split("|", 3)[3] for k in results}, key=lambda v: (v != "default", v))
+    body = [begin]
+    for v in variants:
+        title = TITLES.get(v, f"`{v}` (" + ", ".join(
+            "APIC" if p == "flip=0" else "contact band " + p[5:] if p.startswith("band=") else
+            "the default transfer" if p == "default" else p for p in v.split("|")) + ")")
+        body += ["", f"{title}:", ""] + table(results, v, every_case=v == "default")
+    body += ["", end]
+    text = path.read_text() if path.exists() else f"# Convergence\n\n{begin}\n{end}\n"
+    head, rest = text.split(begin, 1)
+    tail = rest.split(end, 1)[1]
+    path.write_text(head + "\n".join(body) + tail)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--cases", nargs="+", default=["collapse", "silo"], choices=sorted(CASES))
+    ap.add_argument("--levels", type=int, default=2, help="cell sizes: h, h/2 (, h/4 with 3)")
+    ap.add_argument("--dt-levels", type=int, default=None, help="run dt/2 at this many of the coarsest cells (default all)")
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default")
+    ap.add_argument("--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)")
+    ap.add_argument("--pic-time", type=float, default=None,
+                    help="transfer.pic_time of the default transfer (collapse, silo, wheels; default: the config's)")
+    ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
+    args = ap.parse_args()
+    if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1) or (
+            args.band is not None and args.band < 0):
+        sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
+    global BAND, PIC_TIME
+    BAND, PIC_TIME = args.band, args.pic_time
+    results = run_cases(args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels,
+                        args.threads, args.flip)
+    print("\n".join(table(results, key("", 0.0, 0.0, args.flip).split("|", 3)[3])))
+    if args.write is not None:
+        write_doc(args.write, results)
+
+
+if __name__ == "__main__":
+    main()
