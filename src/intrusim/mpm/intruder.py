@@ -90,10 +90,10 @@ class Intruder:
     """
 
     def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float],
-                 fixed_scale: float | None = None, on_device: bool = False):
+                 fixed_scale: float | None = None, on_device: bool = False, point_gap: float | None = None):
         self.cfg = cfg
         self.width = cfg.width
-        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale)
+        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale, point_gap)
         self.gravity = gravity
         self.x0 = (cfg.x, cfg.z, cfg.theta)
         self.on_device = bool(on_device) and self.coupled
@@ -159,10 +159,10 @@ class Intruder:
             self.state.omega = m.omega * ramp(t, m.ramp_time)
 
     # ------------------------------------------------------------------ in the MPM step
-    def launches(self, grid, dt: float, prefix: str) -> list[Launch]:
+    def launches(self, grid, dt: float, prefix: str, particles=None) -> list[Launch]:
         """The body's kernels in a step: its contact (posed by the host unless ``on_device``), then
         on the device its dynamics (``Var`` ``prefix + "omega_next"``)."""
-        out = self.contact.launches(grid, dt, prefix, posed_by_host=not self.on_device)
+        out = self.contact.launches(grid, dt, prefix, posed_by_host=not self.on_device, particles=particles)
         if self.on_device:
             m = self.cfg.motion
             out.append(Launch(advance_coupled, (
@@ -171,6 +171,11 @@ class Intruder:
                 m.mass_x, m.mass_z, int(m.free_x), int(m.free_z), Var(prefix + "omega_next"),
             )))
         return out
+
+    def point_launches(self, particles, dt: float) -> list[Launch]:
+        """The contact at the points after G2P (``PolygonContact.point_launches``): the pose on the
+        device is the step's start (host) or its end (the dynamics on the device ran before G2P)."""
+        return self.contact.point_launches(particles, dt, 0.0 if self.on_device else dt)
 
     def launch_values(self, t_next: float, prefix: str) -> dict[str, float]:
         """The ``Var`` values of :meth:`launches` for the step that ends at ``t_next``; writes a
