@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -106,6 +106,7 @@ class MPMSettings(Config):
     flip: float = Field(0.0, ge=0.0, le=1.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
+    contact: Literal["surface", "band"] = "surface"  # MPMConfig.contact
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
@@ -237,7 +238,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
             ),
         )],
         gravity=(0.0, -scenario.gravity),
-        contact_band_cells=s.contact_band_cells,
+        contact=s.contact, contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0),
         transfer=TransferConfig(flip=s.flip, shape=s.shape),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5,
