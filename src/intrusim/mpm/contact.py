@@ -266,12 +266,13 @@ def _make_grid_point_contact_kernel(fixed: bool):
             dv = vb + coulomb_project(vp - vb, n, mu) - vp
             if dv.norm_sqr() > 0.0:
                 mp = get_scalar(mass, p)
+                dp = ti.Vector([0.0, 0.0], ti.f64)  # the momentum given to the nodes (m_p dv but for empty nodes)
                 for a, b in ti.static(ti.ndrange(3, 3)):
                     i, j = base[0] + a, base[1] + b
                     mi = gm[i, j]
                     if mi > 0.0:
                         gv[i, j] += (w[a][0] * w[b][1] * mp / mi) * dv
-                dp = ti.cast(mp, ti.f64) * ti.cast(dv, ti.f64)
+                        dp += ti.cast(w[a][0] * w[b][1] * mp, ti.f64) * ti.cast(dv, ti.f64)
                 moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
                 j_point = ti.Vector([-dp[0], -dp[1], moment])
                 scatter_add(impulse, 0, j_point, mode, scale)
