@@ -11,7 +11,7 @@ import argparse
 
 from bench_mpm import alternate_rounds  # noqa: E402  (run from benchmarks/ or with it on sys.path)
 
-CASES = {"64k": ((1.0, 0.6), (200, 120), 0.4), "160k": ((1.0, 1.2), (200, 240), 1.0)}
+CASES = {"64k": ((1.0, 0.8), (200, 160), 0.4), "160k": ((1.0, 1.4), (200, 280), 1.0)}
 
 
 def main() -> None:
