@@ -141,7 +141,7 @@ class Solver:
         for k, (o, a) in enumerate(zip(self.obstacles, active)):
             if a:
                 launches += o.launches(g, dt, f"o{k}_", posed_by_host=False, particles=p)
-        for k, b in enumerate(self.intruders):  # 3. bodies (and their dynamics, where they run on the device)
+        for k, b in enumerate(self.intruders):  # 3. bodies (their dynamics, on the device, at the step's end)
             launches += b.launches(g, dt, f"b{k}_", particles=p)
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
@@ -151,8 +151,9 @@ class Solver:
         for o, a in zip(self.obstacles, active):  # contact at the points (MPMConfig.contact "surface")
             if a:
                 launches += o.point_launches(p, dt, 0.0)
-        for b in self.intruders:
+        for k, b in enumerate(self.intruders):
             launches += b.point_launches(p, dt)
+            launches += b.dynamics_launches(dt, f"b{k}_")  # on the device, from the step's whole impulse
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
