@@ -74,8 +74,10 @@ class MPMSettings(Config):
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
         mpm-2d marks such points inactive) instead of stopping it with a diagnosis (the default).
-    contact_band_cells : grid nodes closer than this many cells outside the body are in contact
-        (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
+    contact : "surface" (the default): contact at the points that touch the body's exact surface;
+        "band": at the grid nodes within ``contact_band_cells`` (docs/mpm.md).
+    contact_band_cells : with contact "band", grid nodes closer than this many cells outside the
+        body are in contact (the body acts about this much larger on the grid; docs/mpm.md).
     arch, precision, cpu_threads : Taichi backend.
     keep_fields : particle snapshots saved to the run folder (last ones of the window).
     frames_every : s, interval of the movie frames (positions, speed, plastic strain rate) saved
