@@ -52,7 +52,7 @@ def test_with_the_paper_groups_transfer_the_wheel_keeps_the_trends():
 
 def test_runner_rises_as_omega_grows():
     sc = four_flap_runner_scenario()
-    s = quick_settings("runner")
+    s = quick_settings("runner").model_copy(update=dict(contact="band"))  # measured with the band (2 cm cells)
     slow, fast = (run_mpm_steady(sc, s, rpm) for rpm in (30.0, 90.0))
     assert fast.velocity > 2 * slow.velocity
     assert fast.sinkage < slow.sinkage  # elevation with spin (Fig 7C)
