@@ -44,6 +44,7 @@ def run_wheel(arch: str, threads: int | None, omega_rpm: float, t_end: float, re
     if backend.fell_back:
         raise SystemExit(f"arch {arch}: Taichi found no such device here")
     s = paper_settings("wheel").model_copy(update=dict(arch=arch, cpu_threads=threads))
+    s = s.model_copy(update=dict(start_depth=s.h))  # a cell into the bed: in contact from the first step
     t0 = time.perf_counter()
     solver = Solver(mpm_config(grousered_wheel_scenario(), s, omega_rpm, None))
     every = max(1, int(round(record_every / solver.dt)))

@@ -72,6 +72,7 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     if contact_band is not None:
         if not contact_band >= 0:
             raise InputError(f"contact_band must be >= 0 cells, got {contact_band!r}")
+        update["contact"] = "band"
         update["contact_band_cells"] = float(contact_band)
     if flip is not None:
         if not 0.0 <= flip <= 1.0:
@@ -132,7 +133,7 @@ def steady(
     out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
+    contact_band: float = typer.Option(None, help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md)."),
     length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
     t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
@@ -193,7 +194,7 @@ def sweep(
     serial: bool = typer.Option(False, help="Run the points one after another in this process."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(None, help="Contact band, cells: grid nodes this close outside the body are in contact (default 1; docs/mpm.md)."),
+    contact_band: float = typer.Option(None, help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md)."),
     length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
     t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
     mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),

@@ -206,7 +206,7 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     assert (run_dir / "result.json").exists()
     before = {p.name: p.read_bytes() for p in run_dir.iterdir()}
     r = runner.invoke(app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"])
-    assert r.exit_code == 2 and "another configuration (differs in contact_band_cells)" in r.output.replace("\n", " ")
+    assert r.exit_code == 2 and "another configuration (differs in contact, contact_band_cells)" in r.output.replace("\n", " ")
     assert {p.name: p.read_bytes() for p in run_dir.iterdir()} == before
     # `mpm collect` gathers the finished run into the sweep CSV that reproduce/calibrate read
     from intrusim.analysis.sweep import SweepResult

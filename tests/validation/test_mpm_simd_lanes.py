@@ -260,6 +260,7 @@ def test_unscalarized_restores_the_config_on_error():
 
 def _wheel(**backend) -> Solver:
     cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel"), 60.0, None)
+    cfg.contact = "band"  # the bound of test_wheel_run_follows_the_one_point_run was measured with the band
     for key, value in backend.items():
         setattr(cfg.backend, key, value)
     return Solver(cfg)

@@ -40,13 +40,13 @@ def wheel_config(omega: float, mass_z: float, grousers: int, t_end: float, free_
 
 @pytest.fixture(scope="module")
 def resting():
-    """Time series of a wheel (1 kg per 0.1 m) left to rest on the bed, by contact band (cells)."""
+    """Time series of a wheel (1 kg per 0.1 m) left to rest on the bed, by contact band (cells; contact "band")."""
     cache: dict[float, list] = {}
 
     def run(band: float) -> list:
         if band not in cache:
             cfg = wheel_config(omega=0.0, mass_z=1.0, grousers=0, t_end=0.4, free_x=False)
-            cache[band] = Solver(cfg.model_copy(update=dict(contact_band_cells=band))).run()
+            cache[band] = Solver(cfg.model_copy(update=dict(contact="band", contact_band_cells=band))).run()
         return cache[band]
 
     return run

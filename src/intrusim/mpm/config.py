@@ -350,8 +350,11 @@ class MPMConfig(_Model):
     obstacles: list[ObstacleConfig] = Field(default_factory=list)
     intruders: list[IntruderConfig] = Field(default_factory=list)
     gravity: Vec2 = Field((0.0, -9.8), description="m/s^2, (gx, gz)")
+    contact: Literal["surface", "band"] = Field(
+        "surface", description="rigid-body contact: 'surface', at the points, against the body's exact surface "
+        "(docs/mpm.md); 'band', at the grid nodes within contact_band_cells of the body")
     contact_band_cells: float = Field(
-        1.0, ge=0, description="grid nodes within this distance (cells) of a body are in contact"
+        1.0, ge=0, description="contact 'band': grid nodes within this distance (cells) of a body are in contact"
     )
     time: TimeConfig = Field(default_factory=TimeConfig)
     transfer: TransferConfig = Field(default_factory=TransferConfig)

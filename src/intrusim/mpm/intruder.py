@@ -90,10 +90,10 @@ class Intruder:
     """
 
     def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float],
-                 fixed_scale: float | None = None, on_device: bool = False):
+                 fixed_scale: float | None = None, on_device: bool = False, point_gap: float | None = None):
         self.cfg = cfg
         self.width = cfg.width
-        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale)
+        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale, point_gap)
         self.gravity = gravity
         self.x0 = (cfg.x, cfg.z, cfg.theta)
         self.on_device = bool(on_device) and self.coupled
@@ -159,18 +159,26 @@ class Intruder:
             self.state.omega = m.omega * ramp(t, m.ramp_time)
 
     # ------------------------------------------------------------------ in the MPM step
-    def launches(self, grid, dt: float, prefix: str) -> list[Launch]:
-        """The body's kernels in a step: its contact (posed by the host unless ``on_device``), then
-        on the device its dynamics (``Var`` ``prefix + "omega_next"``)."""
-        out = self.contact.launches(grid, dt, prefix, posed_by_host=not self.on_device)
-        if self.on_device:
-            m = self.cfg.motion
-            out.append(Launch(advance_coupled, (
-                self.contact.pose, self.contact.impulse, self._impulse_prev_nd, dt, self.width,
-                float(m.external_force[0]), float(m.external_force[1]), m.mass_z * self.gravity[1],
-                m.mass_x, m.mass_z, int(m.free_x), int(m.free_z), Var(prefix + "omega_next"),
-            )))
-        return out
+    def launches(self, grid, dt: float, prefix: str, particles=None) -> list[Launch]:
+        """The body's contact kernels on the grid in a step (posed by the host unless ``on_device``)."""
+        return self.contact.launches(grid, dt, prefix, posed_by_host=not self.on_device, particles=particles)
+
+    def point_launches(self, particles, dt: float) -> list[Launch]:
+        """The contact at the points after G2P (``PolygonContact.point_launches``), the body at the
+        step's end (its pose on the device is still the step's start: the dynamics come last)."""
+        return self.contact.point_launches(particles, dt, dt)
+
+    def dynamics_launches(self, dt: float, prefix: str) -> list[Launch]:
+        """At the step's end, on the device, the body's dynamics from the step's whole impulse
+        (``Var`` ``prefix + "omega_next"``), as the host's ``after_step`` does otherwise."""
+        if not self.on_device:
+            return []
+        m = self.cfg.motion
+        return [Launch(advance_coupled, (
+            self.contact.pose, self.contact.impulse, self._impulse_prev_nd, dt, self.width,
+            float(m.external_force[0]), float(m.external_force[1]), m.mass_z * self.gravity[1],
+            m.mass_x, m.mass_z, int(m.free_x), int(m.free_z), Var(prefix + "omega_next"),
+        ))]
 
     def launch_values(self, t_next: float, prefix: str) -> dict[str, float]:
         """The ``Var`` values of :meth:`launches` for the step that ends at ``t_next``; writes a

@@ -43,7 +43,8 @@ class PlateDragCase:
     mu_w: float = 0.35  # plate-grain friction (not given for Fig 6; the wheel value)
     youngs_modulus: float = 1.0e6  # Pa
     ramp_fraction: float = 0.25  # ramp time = ramp_fraction * plate_length / speed
-    contact_band_cells: float = 1.0  # nodes this close outside the plate are in contact (docs/mpm.md)
+    contact: str = "surface"  # MPMConfig.contact: at the plate's surface, or "band" (docs/mpm.md)
+    contact_band_cells: float = 1.0  # contact "band": nodes this close outside the plate are in contact
     cfl: float = 0.3  # C in dt = C h sqrt(rho / E) (TimeConfig.cfl)
     flip: float | None = None  # FLIP's share of the velocity update (TransferConfig.flip; None: the default; 0: APIC)
     shape: str = "quadratic"  # shape functions of the transfers (TransferConfig.shape)
@@ -62,7 +63,7 @@ class PlateDragCase:
                 motion=PrescribedMotion(vx=self.speed,
                                         ramp_time=self.ramp_fraction * self.plate_length / self.speed),
             )],
-            contact_band_cells=self.contact_band_cells,
+            contact=self.contact, contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, cfl=self.cfl, v_max_expected=max(self.speed, 0.5)),
             transfer=TransferConfig(flip=self.flip, shape=self.shape),
             output=OutputConfig(directory=directory, record_every=t_end / 100),

@@ -48,7 +48,7 @@ class PlateMapCase:
     mu_s: float = 0.56
     mu_w: float = 0.35
     youngs_modulus: float = 1.0e6  # Pa
-    contact_band_cells: float = 0.0  # band 0, as the settled MPM wheel runs
+    contact_band_cells: float = 0.0  # the band contact with band 0, as the settled MPM wheel runs
     ramp_time: float = 0.02  # s
     # the path is shifted by this many cells in +x and -z: a plate whose faces lie whole cells
     # apart then never rests with a face on a grid line, where (band 0) a node counts as inside
@@ -114,7 +114,7 @@ class PlateMapCase:
                 mu_w=self.mu_w, x=x0, z=z0, theta=-self.beta,
                 motion=PrescribedMotion(vx=vx, vz=vz, ramp_time=self.ramp_time),
             )],
-            contact_band_cells=self.contact_band_cells,
+            contact="band", contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, v_max_expected=max(self.speed, 0.5)),
             output=OutputConfig(directory=directory, record_every=t_end / 200),
             backend=backend or {},

@@ -106,8 +106,11 @@ class Solver:
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)
         band = cfg.contact_band_cells * self.h
-        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale) for o in cfg.obstacles]
-        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies)
+        # contact at the points (the default), at half a point spacing from the body's surface
+        gap = 0.5 * self.h / cfg.domain.particles_per_cell if cfg.contact == "surface" else None
+        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap)
+                          for o in cfg.obstacles]
+        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap)
                           for ic in cfg.intruders]
         if particles is None:
             exclude = [np.asarray(o.vertices) for o in cfg.obstacles]
@@ -162,14 +165,20 @@ class Solver:
         ]
         for k, (o, a) in enumerate(zip(self.obstacles, active)):
             if a:
-                launches += o.launches(g, dt, f"o{k}_", posed_by_host=False)
-        for k, b in enumerate(self.intruders):  # 3. bodies (and their dynamics, where they run on the device)
-            launches += b.launches(g, dt, f"b{k}_")
+                launches += o.launches(g, dt, f"o{k}_", posed_by_host=False, particles=p)
+        for k, b in enumerate(self.intruders):  # 3. bodies (their dynamics, on the device, at the step's end)
+            launches += b.launches(g, dt, f"b{k}_", particles=p)
         launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
             p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
             g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
             g.v_old, self.flip,
         ), unscalarized=self._lanes))
+        for o, a in zip(self.obstacles, active):  # contact at the points (MPMConfig.contact "surface")
+            if a:
+                launches += o.point_launches(p, dt, 0.0)
+        for k, b in enumerate(self.intruders):
+            launches += b.point_launches(p, dt)
+            launches += b.dynamics_launches(dt, f"b{k}_")  # on the device, from the step's whole impulse
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2

@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -77,8 +77,10 @@ class MPMSettings(Config):
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
         mpm-2d marks such points inactive) instead of stopping it with a diagnosis (the default).
-    contact_band_cells : grid nodes closer than this many cells outside the body are in contact
-        (the body acts about this much larger on the grid; docs/mpm.md, "contact band").
+    contact : "surface" (the default): contact at the points that touch the body's exact surface;
+        "band": at the grid nodes within ``contact_band_cells`` (docs/mpm.md).
+    contact_band_cells : with contact "band", grid nodes closer than this many cells outside the
+        body are in contact (the body acts about this much larger on the grid; docs/mpm.md).
     arch, precision, cpu_threads : Taichi backend.
     keep_fields : particle snapshots saved to the run folder (last ones of the window).
     frames_every : s, interval of the movie frames (positions, speed, plastic strain rate) saved
@@ -110,6 +112,7 @@ class MPMSettings(Config):
     pic_time: float | None = Field(None, gt=0.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
+    contact: Literal["surface", "band"] = "surface"  # MPMConfig.contact
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: str = "f32"
@@ -240,7 +243,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
             ),
         )],
         gravity=(0.0, -scenario.gravity),
-        contact_band_cells=s.contact_band_cells,
+        contact=s.contact, contact_band_cells=s.contact_band_cells,
         time=TimeConfig(t_end=s.t_max, cfl=s.cfl, v_max_expected=1.0, max_steps=s.max_steps),
         transfer=TransferConfig(flip=s.flip, shape=s.shape, **({} if s.pic_time is None else {"pic_time": s.pic_time})),
         output=OutputConfig(directory=None if out_dir is None else str(out_dir), record_every=0.01, checkpoint_every=0.5,
