@@ -148,7 +148,7 @@ def wheel(rpm: float):
 
 
 def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
-    from intrusim.figures_mpm_plates import DRAG_DEPTHS, DRAG_SPEEDS_QUICK, PAPER_DRAG
+    from intrusim.figures.mpm_plates import DRAG_DEPTHS, DRAG_SPEEDS_QUICK, PAPER_DRAG
     from intrusim.mpm.plate import PlateDragCase, fit_drag_law, steady_force
     from intrusim.mpm.solver import Solver
 

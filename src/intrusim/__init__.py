@@ -24,7 +24,8 @@ __version__ = "0.1.0"
 #: public name -> the module that defines it
 _EXPORTS: dict[str, str] = {
     # errors
-    "InputError": "intrusim._checks",
+    "InputError": "intrusim.errors",
+    "RunFailed": "intrusim.errors",
     # shapes and body state
     "Shape": "intrusim.geometry",
     "SurfaceElements": "intrusim.geometry",
@@ -98,7 +99,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
-    from intrusim._checks import InputError
+    from intrusim.errors import InputError, RunFailed
     from intrusim.analysis.calibration import CalibrationResult, calibrate, compare, load_reference
     from intrusim.analysis.steady import SteadyState, run_steady, steady_state
     from intrusim.analysis.sweep import SweepResult, sweep_omega

@@ -135,8 +135,13 @@ def test_2_nan_and_inf_in_a_body_are_refused_naming_the_field(tmp_path, old, new
     assert not (tmp_path / "run" / "timeseries.csv").exists()
 
 
+def _light_body_on_the_bed() -> str:
+    """BODY at 1e-6 kg/m, its lower face on the bed's surface (z = 0.05 m), so the contact acts at once."""
+    return _replace(_replace(BODY, "mass_x = 1.0\nmass_z = 1.0", "mass_x = 1e-6\nmass_z = 1e-6"), "z = 0.065", "z = 0.06")
+
+
 def test_2_a_body_too_light_to_stay_in_the_box_stops_the_run_with_a_diagnosis(tmp_path):
-    text = _replace(BODY, "mass_x = 1.0\nmass_z = 1.0", "mass_x = 1e-6\nmass_z = 1e-6")
+    text = _light_body_on_the_bed()
     r = _run("mpm", "run", _toml(tmp_path, text), "--out", tmp_path / "run")
     assert r.exit_code == 1, r.output
     assert "Traceback" not in r.output and "body" in r.output
@@ -423,7 +428,7 @@ def test_7_the_progress_bar_ends_cleanly_and_an_error_has_its_own_line(tmp_path)
     assert r.exit_code == 0, r.output
     assert not [w for w in caught if "clamping frac" in str(w.message)]
     assert "-00:00" not in r.output and "0.020/0.020 s" in r.output
-    text = _replace(BODY, "mass_x = 1.0\nmass_z = 1.0", "mass_x = 1e-6\nmass_z = 1e-6")
+    text = _light_body_on_the_bed()
     r = _run("mpm", "run", _toml(tmp_path, text))
     assert r.exit_code == 1
     assert any(line.startswith("error: body escape") or line.startswith("error: body CFL") or line.startswith("error: NaN")

@@ -32,7 +32,7 @@ def test_rough_footing_load_does_not_move_with_dt_and_differs_little_between_10_
 
 def _wall_config(offset_cells: float, contact: str = "surface", band: float = 1.0) -> MPMConfig:
     """A 0.2 x 0.1 m box, 5 mm cells; grains fill x < 0.095 to 0.08 m; a static wall one cell thick
-    from x = 0.1 + offset h, full height."""
+    from x = 0.1 + offset h, from the floor to the top of the box (a polygon must lie inside the box)."""
     h = 0.005
     x0 = 0.1 + offset_cells * h
     return MPMConfig(
@@ -40,7 +40,7 @@ def _wall_config(offset_cells: float, contact: str = "surface", band: float = 1.
         material=MaterialConfig(mu_s=0.3),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=x0 - 0.001, z1=0.08)]),
         boundaries=BoundaryConfig(floor=WallConfig(kind="frictionless")),
-        obstacles=[ObstacleConfig(vertices=[(x0, -0.02), (x0 + h, -0.02), (x0 + h, 0.12), (x0, 0.12)])],
+        obstacles=[ObstacleConfig(vertices=[(x0, 0.0), (x0 + h, 0.0), (x0 + h, 0.1), (x0, 0.1)])],
         contact=contact, contact_band_cells=band,
         time=TimeConfig(t_end=0.4), output=OutputConfig(record_every=0.1), backend=BACKEND,
     )
