@@ -29,17 +29,27 @@ def main() -> None:
     for label, (domain, cells, bed) in CASES.items():
         solvers = {}
         for contact in ("surface", "band"):
-            s = paper_settings("wheel").model_copy(update=dict(
-                domain=domain, cells=cells, bed_depth=bed, contact=contact, contact_band_cells=1.0,
-                cpu_threads=args.threads))
+            s = paper_settings("wheel").model_copy(
+                update=dict(
+                    domain=domain,
+                    cells=cells,
+                    bed_depth=bed,
+                    contact=contact,
+                    contact_band_cells=1.0,
+                    cpu_threads=args.threads,
+                )
+            )
             solvers[contact] = Solver(mpm_config(grousered_wheel_scenario(), s, 60.0, None))
         for solver in solvers.values():  # the wheel into the bed first
             for _ in range(200):
                 solver.step()
         best = alternate_rounds(solvers, args.steps, args.rounds)
         n = solvers["surface"].particles.n
-        print(f"{label}: {n} points, {args.threads} threads: surface {best['surface'] * 1e3:.2f} ms/step, "
-              f"band {best['band'] * 1e3:.2f} ms/step, ratio {best['surface'] / best['band']:.3f}", flush=True)
+        print(
+            f"{label}: {n} points, {args.threads} threads: surface {best['surface'] * 1e3:.2f} ms/step, "
+            f"band {best['band'] * 1e3:.2f} ms/step, ratio {best['surface'] / best['band']:.3f}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -63,7 +63,9 @@ def main() -> None:
         res = json.loads(proc.stdout.strip().splitlines()[-1])
         for r in res["rows"]:
             best = max(r["field"], r["ndarray"])
-            print(f"{res['threads']:>7} {r['mib']:>7g} {r['memcpy']:>8.1f} {r['field']:>8.1f} {r['ndarray']:>8.1f} {r['memcpy'] / best:>16.2f}")
+            print(
+                f"{res['threads']:>7} {r['mib']:>7g} {r['memcpy']:>8.1f} {r['field']:>8.1f} {r['ndarray']:>8.1f} {r['memcpy'] / best:>16.2f}"
+            )
 
 
 if __name__ == "__main__":

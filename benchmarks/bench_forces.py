@@ -20,7 +20,9 @@ from intrusim.laws.drft import structural_depth_shift
 from intrusim.laws.rft import alpha
 
 
-def loop_wrench(elements, state: BodyState, xi: float, rho: float, lam: float, radius: float) -> tuple[float, float, float]:
+def loop_wrench(
+    elements, state: BodyState, xi: float, rho: float, lam: float, radius: float
+) -> tuple[float, float, float]:
     """Per-element loop over the same DRFT laws (wheel rear-half model), one element at a time."""
     c, s = math.cos(state.theta), math.sin(state.theta)
     n_el = len(elements)
@@ -66,7 +68,9 @@ def per_call_us(fn, repeats: int, rounds: int = 5) -> float:
 
 def main() -> None:
     state = BodyState(0.0, 0.085, 0.1, 0.25, 0.0, -2 * np.pi)
-    print(f"{'wheel':>28} | {'elements':>8} | {'compiled us':>11} | {'tuple us':>8} | {'numpy-vec us':>12} | {'loop us':>9} | {'loop/compiled':>13}")
+    print(
+        f"{'wheel':>28} | {'elements':>8} | {'compiled us':>11} | {'tuple us':>8} | {'numpy-vec us':>12} | {'loop us':>9} | {'loop/compiled':>13}"
+    )
     for grousers in (15, 20):
         wheel = grousered_wheel(grouser_count=grousers, grouser_height_scale=1 / 3)
         model = make_force_model("drft", wheel, structural="wheel-rear-half")
@@ -76,9 +80,13 @@ def main() -> None:
         t_obj = per_call_us(lambda: model.wrench(state), 20000)
         t_tup = per_call_us(lambda: model.wrench_tuple(*args), 20000)
         t_vec = per_call_us(lambda: model.wrench_numpy(state), 500)
-        t_loop = per_call_us(lambda: loop_wrench(wheel.elements, state, model.xi, model.rho, model.lam, wheel.radius), 5, rounds=3)
+        t_loop = per_call_us(
+            lambda: loop_wrench(wheel.elements, state, model.xi, model.rho, model.lam, wheel.radius), 5, rounds=3
+        )
         label = f"{grousers} grousers (Table S1: 20)"
-        print(f"{label:>28} | {len(wheel.elements):8d} | {t_obj:11.2f} | {t_tup:8.2f} | {t_vec:12.1f} | {t_loop:9.0f} | {t_loop / t_obj:12.0f}x")
+        print(
+            f"{label:>28} | {len(wheel.elements):8d} | {t_obj:11.2f} | {t_tup:8.2f} | {t_vec:12.1f} | {t_loop:9.0f} | {t_loop / t_obj:12.0f}x"
+        )
     print("target: < 20 us per full force + moment evaluation (compiled column)")
 
 

@@ -13,7 +13,6 @@ for graphs of 1, 3 and 8 such kernels. The baseline, in the same run, is the gra
     python benchmarks/bench_launch.py --threads 2
 """
 
-
 import argparse
 import json
 import subprocess
@@ -31,20 +30,32 @@ def measure(threads: int) -> list[dict]:
     def kernel(n_args: int, parallel: bool):
         n = PARALLEL_N if parallel else SERIAL_N
         if n_args == 1:
+
             @ti.kernel
             def one(a: ti.types.ndarray()):
                 ti.loop_config(serialize=not parallel)
                 for i in range(n):
                     a[i] += 1.0
+
             return one
 
         @ti.kernel
-        def ten(a: ti.types.ndarray(), b: ti.types.ndarray(), c: ti.types.ndarray(), d: ti.types.ndarray(),
-                e: ti.types.ndarray(), f: ti.types.ndarray(), g: ti.types.ndarray(), h: ti.types.ndarray(),
-                k: ti.types.ndarray(), m: ti.types.ndarray()):
+        def ten(
+            a: ti.types.ndarray(),
+            b: ti.types.ndarray(),
+            c: ti.types.ndarray(),
+            d: ti.types.ndarray(),
+            e: ti.types.ndarray(),
+            f: ti.types.ndarray(),
+            g: ti.types.ndarray(),
+            h: ti.types.ndarray(),
+            k: ti.types.ndarray(),
+            m: ti.types.ndarray(),
+        ):
             ti.loop_config(serialize=not parallel)
             for i in range(n):
                 a[i] += 1.0
+
         return ten
 
     arrays = {f"a{q}": ti.ndarray(ti.f32, shape=PARALLEL_N) for q in range(10)}
@@ -66,8 +77,15 @@ def measure(threads: int) -> list[dict]:
                     for _ in range(400):
                         graph.run(values)
                     best = min(best, (time.perf_counter() - t0) / 400)
-                rows.append({"threads": threads, "ndarray_args": n_args, "parallel": parallel,
-                             "kernels": n_kernels, "us_per_run": best * 1e6})
+                rows.append(
+                    {
+                        "threads": threads,
+                        "ndarray_args": n_args,
+                        "parallel": parallel,
+                        "kernels": n_kernels,
+                        "us_per_run": best * 1e6,
+                    }
+                )
     return rows
 
 
@@ -76,11 +94,20 @@ def report(rows: list[dict]) -> None:
     print(f"{rows[0]['threads']} thread(s); baseline: one 1-argument serial kernel, {base:.1f} us per graph run")
     print(f"{'ndarrays':>8} {'loop':>9} {'kernels':>7} {'us/run':>8} {'us/kernel':>9} {'x baseline':>10}")
     for r in rows:
-        print(f"{r['ndarray_args']:8d} {'parallel' if r['parallel'] else 'serial':>9} {r['kernels']:7d} "
-              f"{r['us_per_run']:8.1f} {r['us_per_run'] / r['kernels']:9.1f} {r['us_per_run'] / base:10.1f}")
-    per_arg = [(a["us_per_run"] - b["us_per_run"]) / a["kernels"] / 9 for a in rows for b in rows
-               if a["ndarray_args"] == 10 and b["ndarray_args"] == 1 and not a["parallel"] and not b["parallel"]
-               and a["kernels"] == b["kernels"]]
+        print(
+            f"{r['ndarray_args']:8d} {'parallel' if r['parallel'] else 'serial':>9} {r['kernels']:7d} "
+            f"{r['us_per_run']:8.1f} {r['us_per_run'] / r['kernels']:9.1f} {r['us_per_run'] / base:10.1f}"
+        )
+    per_arg = [
+        (a["us_per_run"] - b["us_per_run"]) / a["kernels"] / 9
+        for a in rows
+        for b in rows
+        if a["ndarray_args"] == 10
+        and b["ndarray_args"] == 1
+        and not a["parallel"]
+        and not b["parallel"]
+        and a["kernels"] == b["kernels"]
+    ]
     print(f"per ndarray argument per serial kernel: {min(per_arg):.2f}-{max(per_arg):.2f} us")
 
 

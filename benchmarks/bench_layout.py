@@ -37,14 +37,27 @@ def kernels():
         return ti.Vector([a[p0 + k][c] for k in ti.static(range(LANES))])
 
     @ti.kernel
-    def per_point(x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(), mass: ti.types.ndarray(),
-                  vol: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
-                  eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray()):
+    def per_point(
+        x: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        C: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        vol: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(),
+        eps_p: ti.types.ndarray(),
+        gdot_p: ti.types.ndarray(),
+    ):
         for blk in range(x.shape[0] // LANES):
             p0 = blk * LANES
             x0, x1, m, vp = lanes(x, p0, 0), lanes(x, p0, 1), lanes(mass, p0, 0), lanes(vol, p0, 0)
-            s0, s1, s2, sy, ep = lanes(sigma, p0, 0), lanes(sigma, p0, 1), lanes(sigma, p0, 2), lanes(s_yy, p0, 0), \
-                lanes(eps_p, p0, 0)
+            s0, s1, s2, sy, ep = (
+                lanes(sigma, p0, 0),
+                lanes(sigma, p0, 1),
+                lanes(sigma, p0, 2),
+                lanes(s_yy, p0, 0),
+                lanes(eps_p, p0, 0),
+            )
             a, b, d = x0 * 1.0001 + s0 * 1e-9, x1 * 0.9999 + s1 * 1e-9, m / vp
             for k in ti.static(range(LANES)):
                 p = p0 + k
@@ -58,9 +71,17 @@ def kernels():
                 gdot_p[p] = ti.Vector([d[k]])
 
     @ti.kernel
-    def blocks(x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(), mass: ti.types.ndarray(),
-               vol: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(),
-               eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray()):
+    def blocks(
+        x: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        C: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        vol: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(),
+        eps_p: ti.types.ndarray(),
+        gdot_p: ti.types.ndarray(),
+    ):
         for blk in range(x.shape[0]):
             x0, x1, m, vp = x[blk, 0], x[blk, 1], mass[blk, 0], vol[blk, 0]
             s0, s1, s2, sy, ep = sigma[blk, 0], sigma[blk, 1], sigma[blk, 2], s_yy[blk, 0], eps_p[blk, 0]
@@ -121,8 +142,16 @@ def measure(threads: int, rounds: int) -> list[dict]:
             flat_ms.append(1e3 * timed(per_point, args_flat, count))
             blk_ms.append(1e3 * timed(blocks, args_blk, count))
         bytes_moved = n * 4 * (9 + 15)
-        rows.append({"threads": threads, "points": n, "flat_ms": flat_ms, "blocks_ms": blk_ms,
-                     "mismatch": mismatch, "bytes": bytes_moved})
+        rows.append(
+            {
+                "threads": threads,
+                "points": n,
+                "flat_ms": flat_ms,
+                "blocks_ms": blk_ms,
+                "mismatch": mismatch,
+                "bytes": bytes_moved,
+            }
+        )
     return rows
 
 
@@ -137,19 +166,24 @@ def main() -> None:
         return
     print("G2P's particle reads and writes (24 floats per point), vectorised over 8 points: one array element")
     print("per point (baseline) vs blocks of 8 points per component (the solver's layout)")
-    print("| threads | points | per point ms (min / median) | blocks ms (min / median) | per point / blocks (medians) "
-          "| blocks GB/s | max mismatch |")
+    print(
+        "| threads | points | per point ms (min / median) | blocks ms (min / median) | per point / blocks (medians) "
+        "| blocks GB/s | max mismatch |"
+    )
     print("|---|---|---|---|---|---|---|")
     for t in args.threads.split(","):
-        out = subprocess.run([sys.executable, __file__, "--child", t, "--rounds", str(args.rounds)],
-                             capture_output=True, text=True)
+        out = subprocess.run(
+            [sys.executable, __file__, "--child", t, "--rounds", str(args.rounds)], capture_output=True, text=True
+        )
         if out.returncode != 0:
             sys.exit(f"benchmark child ({t} threads) failed:\n{out.stderr[-3000:]}")
         for r in json.loads(out.stdout.strip().splitlines()[-1]):
             f, b = np.array(r["flat_ms"]), np.array(r["blocks_ms"])
-            print(f"| {r['threads']} | {r['points']:,} | {f.min():.3f} / {np.median(f):.3f} | {b.min():.3f} / "
-                  f"{np.median(b):.3f} | {np.median(f) / np.median(b):.2f}x | {r['bytes'] / b.min() / 1e6:.1f} | "
-                  f"{r['mismatch']:.1e} |")
+            print(
+                f"| {r['threads']} | {r['points']:,} | {f.min():.3f} / {np.median(f):.3f} | {b.min():.3f} / "
+                f"{np.median(b):.3f} | {np.median(f) / np.median(b):.2f}x | {r['bytes'] / b.min() / 1e6:.1f} | "
+                f"{r['mismatch']:.1e} |"
+            )
 
 
 if __name__ == "__main__":

@@ -67,9 +67,7 @@ def main() -> None:
     sim_one = float(st.trajectory.t[-1])
     rpm = np.arange(10.0, 91.0, 10.0)
     t_sweep, res = best_of(lambda: sweep_omega(wheel, a.kind, rpm, parallel=False, progress=False), a.repeat)
-    sim_sweep = sum(
-        float(run_steady(wheel, a.kind, w).trajectory.t[-1]) for w in rpm
-    )  # simulated seconds of the sweep
+    sim_sweep = sum(float(run_steady(wheel, a.kind, w).trajectory.t[-1]) for w in rpm)  # simulated seconds of the sweep
 
     # explicit NumPy baseline over the same simulated time
     model, shape, drive = wheel.build_model(a.kind), wheel.rft_shape(), wheel.drive(a.omega_rpm)
@@ -103,8 +101,10 @@ def main() -> None:
         v = f"{s_.velocity:7.4f}" if s_ is not None else f"{'':>7}"
         sk = f"{s_.sinkage * 1e3:7.2f}" if s_ is not None else f"{'':>7}"
         print(f"{name:<44} | {t:8.4f} | {sim:7.2f} | {sim / t:9.0f} | {v} | {sk} | {note}")
-    print(f"one steady state: {sim_one / t_one:.0f}x real time (target >= 1000x); "
-          f"compiled loop vs NumPy baseline {t_base / t_one:.0f}x faster, vs Python loop {t_py / t_one:.1f}x faster")
+    print(
+        f"one steady state: {sim_one / t_one:.0f}x real time (target >= 1000x); "
+        f"compiled loop vs NumPy baseline {t_base / t_one:.0f}x faster, vs Python loop {t_py / t_one:.1f}x faster"
+    )
     print(f"of one steady state: integrator (simulate) {t_int * 1e3:.2f} ms, set-up + steady-state analysis "
           f"{(t_one - t_int) * 1e3:.2f} ms")  # fmt: skip
     print(f"9-point sweep: {t_sweep:.3f} s serial (target < 1 s); NumPy baseline per steady state {t_base:.2f} s")
@@ -116,8 +116,10 @@ def main() -> None:
         run_steady(tiny, a.kind, 10.0)
         pairs = [(best_of(lambda: run_steady(wheel, a.kind, a.omega_rpm), a.repeat)[0],
                   best_of(lambda: run_steady(tiny, a.kind, a.omega_rpm), a.repeat)[0]) for _ in range(3)]  # fmt: skip
-        print("bulldozing term's cost (k_b = 1e-9, same trajectory), 3 interleaved rounds, ms: "
-              + ", ".join(f"{off * 1e3:.2f} off / {on * 1e3:.2f} on ({on / off:.3f})" for off, on in pairs))
+        print(
+            "bulldozing term's cost (k_b = 1e-9, same trajectory), 3 interleaved rounds, ms: "
+            + ", ".join(f"{off * 1e3:.2f} off / {on * 1e3:.2f} on ({on / off:.3f})" for off, on in pairs)
+        )
         bull = with_parameters(wheel, {"bulldozing": a.bulldozing})
         t_b, st_b = best_of(lambda: run_steady(bull, a.kind, a.omega_rpm), a.repeat)
         n_b = len(st_b.trajectory.t) - 1
@@ -125,6 +127,7 @@ def main() -> None:
               f"v {st_b.velocity:.4f} m/s, sinkage {st_b.sinkage * 1e3:.2f} mm: a slower, deeper wheel, more elements in contact)")  # fmt: skip
     print("sweep records:")
     print(res.table())
+
 
 if __name__ == "__main__":
     main()

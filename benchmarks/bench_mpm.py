@@ -39,7 +39,6 @@ On the shared 2-core machines one run's ratios move by up to 1.5x from run to ru
 the copy bandwidth and the step all vary), so a verdict counts the runs that meet each target.
 """
 
-
 import argparse
 import json
 import os
@@ -149,9 +148,18 @@ TRANSFERS = {  # label: TransferConfig fields (and simd_lanes) of the --transfer
 }
 
 
-def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = None, step_graph: bool = True,
-               material: dict | None = None, deterministic_sums: bool = True, simd_lanes: bool = True,
-               transfer: dict | None = None):
+def bed_solver(
+    domain,
+    cells,
+    bed_height,
+    arch: str,
+    p2g_chunks: int | None = None,
+    step_graph: bool = True,
+    material: dict | None = None,
+    deterministic_sums: bool = True,
+    simd_lanes: bool = True,
+    transfer: dict | None = None,
+):
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
@@ -160,8 +168,13 @@ def bed_solver(domain, cells, bed_height, arch: str, p2g_chunks: int | None = No
         material=material or {},
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=domain[0], z1=bed_height)]),
         transfer=transfer or {},
-        backend=dict(arch=arch, step_graph=step_graph, deterministic_sums=deterministic_sums, simd_lanes=simd_lanes,
-                     **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks})),
+        backend=dict(
+            arch=arch,
+            step_graph=step_graph,
+            deterministic_sums=deterministic_sums,
+            simd_lanes=simd_lanes,
+            **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks}),
+        ),
     )
     return Solver(cfg)
 
@@ -221,9 +234,17 @@ def time_numpy_step(solver, rounds: int = 4) -> float:
     from intrusim.mpm.reference_numpy import numpy_step
 
     state = {k: np.asarray(a, np.float64) for k, a in solver.particles.to_numpy().items()}
-    args = (solver.h, solver.grid.pad, solver.grid.shape, solver.cfg.domain.size[0], solver.dt,
-            solver.gravity, solver.material.params, tuple(zip(solver.walls.kinds, solver.walls.mus)),
-            solver.cfg.material.rho_floor)
+    args = (
+        solver.h,
+        solver.grid.pad,
+        solver.grid.shape,
+        solver.cfg.domain.size[0],
+        solver.dt,
+        solver.gravity,
+        solver.material.params,
+        tuple(zip(solver.walls.kinds, solver.walls.mus)),
+        solver.cfg.material.rho_floor,
+    )
     best = np.inf
     for _ in range(rounds):
         t0 = time.perf_counter()
@@ -248,12 +269,25 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
         solvers[on_device] = Solver(cfg)
     best = alternate_rounds(solvers, max(1, int(round(physical / rounds / solvers[True].dt))), rounds)
     solver = solvers[True]
-    return {"particles": solver.particles.n, "dt": solver.dt, "ms_per_step": best[True] * 1e3,
-            "wall_s_per_physical_s": best[True] / solver.dt, "host_body_ms_per_step": best[False] * 1e3}
+    return {
+        "particles": solver.particles.n,
+        "dt": solver.dt,
+        "ms_per_step": best[True] * 1e3,
+        "wall_s_per_physical_s": best[True] / solver.dt,
+        "host_body_ms_per_step": best[False] * 1e3,
+    }
 
 
-def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bool = False,
-            cases: str = DEFAULT_CASES, transfers: bool = False, others: bool = True) -> dict:
+def measure(
+    threads,
+    arch: str,
+    wheel: bool,
+    numpy_baseline: bool,
+    rate_laws: bool = False,
+    cases: str = DEFAULT_CASES,
+    transfers: bool = False,
+    others: bool = True,
+) -> dict:
     """All figures for one thread count (this process initialises Taichi)."""
     from intrusim.mpm.backend import ensure_initialized
 
@@ -276,8 +310,14 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
         nodes = solver.grid.shape[0] * solver.grid.shape[1]
         bytes_min = n * PARTICLE_FLOATS * 4 + nodes * GRID_FLOATS_PER_NODE * 4
         bound = bytes_min / (out["copy_bandwidth_GBs"] * 1e9)
-        row = {"particles": n, "ms_per_step": step * 1e3, "updates_per_s": n / step,
-               "bytes_per_step": bytes_min, "bound_ms": bound * 1e3, "over_bound": step / bound}
+        row = {
+            "particles": n,
+            "ms_per_step": step * 1e3,
+            "updates_per_s": n / step,
+            "bytes_per_step": bytes_min,
+            "bound_ms": bound * 1e3,
+            "over_bound": step / bound,
+        }
         if numpy_baseline and n <= NUMPY_MAX_POINTS:
             row["numpy_ms_per_step"] = time_numpy_step(solver) * 1e3
             row["speedup_vs_numpy"] = row["numpy_ms_per_step"] / row["ms_per_step"]
@@ -286,7 +326,9 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
         if not others:
             pass
         elif arch == "cpu":  # G2P and P2G one point per loop iteration against the vectorised ones (8 points), same run
-            pair = time_alternating({lanes: bed_solver(domain, cells, bed, arch, simd_lanes=lanes) for lanes in (True, False)})
+            pair = time_alternating(
+                {lanes: bed_solver(domain, cells, bed, arch, simd_lanes=lanes) for lanes in (True, False)}
+            )
             row["lanes_pair_ms_per_step"] = (pair[True] * 1e3, pair[False] * 1e3)
         if others and arch == "cpu":  # a GPU's P2G on the CPU: atomic adds into one grid (p2g_chunks = 1), fixed point
             atomic = bed_solver(domain, cells, bed, arch, p2g_chunks=1)
@@ -302,14 +344,20 @@ def measure(threads, arch: str, wheel: bool, numpy_baseline: bool, rate_laws: bo
             del direct
         if transfers:  # each other transfer against the default, alternate rounds (linear: one-point kernels)
             solvers = {"default": bed_solver(domain, cells, bed, arch)}
-            solvers.update({k: bed_solver(domain, cells, bed, arch, transfer=t, simd_lanes=lanes)
-                            for k, (t, lanes) in TRANSFERS.items()})
+            solvers.update(
+                {
+                    k: bed_solver(domain, cells, bed, arch, transfer=t, simd_lanes=lanes)
+                    for k, (t, lanes) in TRANSFERS.items()
+                }
+            )
             best = time_alternating(solvers)
             row["transfers_ms_per_step"] = {k: ms * 1e3 for k, ms in best.items()}
             del solvers
         if rate_laws:  # each rate law's step (all its kernels run on the resting bed too)
             row["rate_laws_ms_per_step"] = {
-                name: time_steps(bed_solver(domain, cells, bed, arch, material=m)) * 1e3 for name, m in RATE_LAWS.items()}
+                name: time_steps(bed_solver(domain, cells, bed, arch, material=m)) * 1e3
+                for name, m in RATE_LAWS.items()
+            }
     if wheel:
         out["wheel"] = wheel_seconds_per_physical_second(arch)
     return out
@@ -322,12 +370,22 @@ def main() -> None:
     ap.add_argument("--wheel", action="store_true", help="also time the paper-resolution wheel run")
     ap.add_argument("--no-numpy", action="store_true", help="skip the (slow) NumPy baseline")
     ap.add_argument("--repeat", type=int, default=1, help="run the whole benchmark this many times and summarise")
-    ap.add_argument("--rate-laws", action="store_true", help="also time the step with mu(I) and with the nonlocal fluidity")
-    ap.add_argument("--transfers", action="store_true", help="also time the step with APIC, FLIP and linear shape functions")
-    ap.add_argument("--only-transfers", action="store_true",
-                    help="--transfers without the other comparisons (one-point kernels, atomics, kernel calls)")
-    ap.add_argument("--cases", default=DEFAULT_CASES,
-                    help=f"comma-separated bed sizes from {', '.join(CASES)} (NumPy baseline up to {NUMPY_MAX_POINTS:,} points)")
+    ap.add_argument(
+        "--rate-laws", action="store_true", help="also time the step with mu(I) and with the nonlocal fluidity"
+    )
+    ap.add_argument(
+        "--transfers", action="store_true", help="also time the step with APIC, FLIP and linear shape functions"
+    )
+    ap.add_argument(
+        "--only-transfers",
+        action="store_true",
+        help="--transfers without the other comparisons (one-point kernels, atomics, kernel calls)",
+    )
+    ap.add_argument(
+        "--cases",
+        default=DEFAULT_CASES,
+        help=f"comma-separated bed sizes from {', '.join(CASES)} (NumPy baseline up to {NUMPY_MAX_POINTS:,} points)",
+    )
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.repeat < 1:
@@ -337,8 +395,20 @@ def main() -> None:
         ap.error(f"--cases: unknown {unknown}; choose from {', '.join(CASES)}")
     if args.child is not None:
         threads = None if args.child == "all" else int(args.child)
-        print(json.dumps(measure(threads, args.arch, args.wheel, not args.no_numpy, args.rate_laws, args.cases,
-                                 args.transfers or args.only_transfers, not args.only_transfers)))
+        print(
+            json.dumps(
+                measure(
+                    threads,
+                    args.arch,
+                    args.wheel,
+                    not args.no_numpy,
+                    args.rate_laws,
+                    args.cases,
+                    args.transfers or args.only_transfers,
+                    not args.only_transfers,
+                )
+            )
+        )
         return
     runs = []
     for k in range(args.repeat):
@@ -371,8 +441,13 @@ def summarise(runs: list[list[dict]]) -> None:
             rows = [run[j]["cases"][label] for run in runs]
             line = f"{first['threads']} threads, {label}: " + ", ".join(
                 f"{name} {_spread([r[key] for r in rows if key in r])}"
-                for key, name in (("ms_per_step", "ms/step"), ("speedup_vs_numpy", "x NumPy"),
-                                  ("over_bound", "x bound")) if key in rows[0])
+                for key, name in (
+                    ("ms_per_step", "ms/step"),
+                    ("speedup_vs_numpy", "x NumPy"),
+                    ("over_bound", "x bound"),
+                )
+                if key in rows[0]
+            )
             met_bound = sum(r["over_bound"] <= TARGET_X_BOUND for r in rows)
             line += f"; within {TARGET_X_BOUND:g}x of the bound in {met_bound} of {len(rows)}"
             if all("speedup_vs_numpy" in r for r in rows):
@@ -382,7 +457,9 @@ def summarise(runs: list[list[dict]]) -> None:
             if all("transfers_ms_per_step" in r for r in rows):  # each transfer's step / the default's, same run
                 for name in rows[0]["transfers_ms_per_step"]:
                     if name != "default":
-                        ratios = [r["transfers_ms_per_step"][name] / r["transfers_ms_per_step"]["default"] for r in rows]
+                        ratios = [
+                            r["transfers_ms_per_step"][name] / r["transfers_ms_per_step"]["default"] for r in rows
+                        ]
                         print(f"{first['threads']} threads, {label}: {name} / the default: {_spread(ratios)}")
 
 
@@ -394,64 +471,90 @@ def _spread(values: list[float]) -> str:
 def report(results: list[dict], arch: str) -> None:
     """Print the tables of one run (one entry of ``results`` per thread count)."""
     print(f"MPM step benchmark ({arch}); NumPy baseline: vectorised float64 step, same state, same run")
-    print(f"{'threads':>7} {'case':>5} {'points':>7} {'ms/step':>8} {'Mupd/s':>7} {'NumPy ms':>9} "
-          f"{'x NumPy':>8} {'bound ms':>9} {'x bound':>8} {'copy GB/s':>9}")
+    print(
+        f"{'threads':>7} {'case':>5} {'points':>7} {'ms/step':>8} {'Mupd/s':>7} {'NumPy ms':>9} "
+        f"{'x NumPy':>8} {'bound ms':>9} {'x bound':>8} {'copy GB/s':>9}"
+    )
     for r in results:
         for label, c in r["cases"].items():
-            print(f"{r['threads']:>7} {label:>5} {c['particles']:>7} {c['ms_per_step']:8.2f} "
-                  f"{c['updates_per_s'] / 1e6:7.1f} {c.get('numpy_ms_per_step', float('nan')):9.1f} "
-                  f"{c.get('speedup_vs_numpy', float('nan')):8.1f} {c['bound_ms']:9.3f} "
-                  f"{c['over_bound']:8.1f} {r['copy_bandwidth_GBs']:9.1f}")
+            print(
+                f"{r['threads']:>7} {label:>5} {c['particles']:>7} {c['ms_per_step']:8.2f} "
+                f"{c['updates_per_s'] / 1e6:7.1f} {c.get('numpy_ms_per_step', float('nan')):9.1f} "
+                f"{c.get('speedup_vs_numpy', float('nan')):8.1f} {c['bound_ms']:9.3f} "
+                f"{c['over_bound']:8.1f} {r['copy_bandwidth_GBs']:9.1f}"
+            )
     for r in results:
         for label, c in r["cases"].items():
             if "atomic_p2g_ms_per_step" in c:
-                print(f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, 64-bit "
-                      f"fixed point) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} chunked")
+                print(
+                    f"{r['threads']} threads, {label}: P2G with atomics into one grid (p2g_chunks = 1, 64-bit "
+                    f"fixed point) {c['atomic_p2g_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} chunked"
+                )
             if "float_atomic_ms_per_step" in c:
-                print(f"{r['threads']} threads, {label}: P2G with float atomics (deterministic_sums = false, not "
-                      f"bit-reproducible) {c['float_atomic_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} the default")
+                print(
+                    f"{r['threads']} threads, {label}: P2G with float atomics (deterministic_sums = false, not "
+                    f"bit-reproducible) {c['float_atomic_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} the default"
+                )
     for r in results:
         for label, c in r["cases"].items():
             if "lanes_pair_ms_per_step" in c:
                 lanes, scalar = c["lanes_pair_ms_per_step"]
-                print(f"{r['threads']} threads, {label}: G2P and P2G one point per loop iteration (backend.simd_lanes = false) "
-                      f"{scalar:.2f} ms/step vs {lanes:.2f} vectorised over 8 points (alternate rounds, best of 5): "
-                      f"{scalar / lanes:.2f}x")
+                print(
+                    f"{r['threads']} threads, {label}: G2P and P2G one point per loop iteration (backend.simd_lanes = false) "
+                    f"{scalar:.2f} ms/step vs {lanes:.2f} vectorised over 8 points (alternate rounds, best of 5): "
+                    f"{scalar / lanes:.2f}x"
+                )
     for r in results:
         for label, c in r["cases"].items():
             if "direct_launch_ms_per_step" not in c:
                 continue
-            print(f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
-                  f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph")
+            print(
+                f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
+                f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph"
+            )
     for r in results:
         for label, c in r["cases"].items():
             for name, ms in c.get("rate_laws_ms_per_step", {}).items():
-                print(f"{r['threads']} threads, {label}: {name} (not the paper's law) {ms:.2f} ms/step, "
-                      f"{ms / c['ms_per_step']:.2f}x the paper's law's {c['ms_per_step']:.2f}")
+                print(
+                    f"{r['threads']} threads, {label}: {name} (not the paper's law) {ms:.2f} ms/step, "
+                    f"{ms / c['ms_per_step']:.2f}x the paper's law's {c['ms_per_step']:.2f}"
+                )
     for r in results:
         for label, c in r["cases"].items():
             t = c.get("transfers_ms_per_step")
             if t:
-                print(f"{r['threads']} threads, {label}: " + ", ".join(
-                    f"{name} {ms:.2f} ms/step ({ms / t['default']:.2f}x)" for name, ms in t.items() if name != "default")
+                print(
+                    f"{r['threads']} threads, {label}: "
+                    + ", ".join(
+                        f"{name} {ms:.2f} ms/step ({ms / t['default']:.2f}x)"
+                        for name, ms in t.items()
+                        if name != "default"
+                    )
                     + f"; the default (FLIP with a PIC share per step falling with dt, quadratic, vectorised) "
-                    f"{t['default']:.2f} (alternate rounds, best of 5)")
+                    f"{t['default']:.2f} (alternate rounds, best of 5)"
+                )
     for r in results:
-        print(f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
-              f"Taichi runtime copy {r['runtime_copy_GBs']:.1f} GB/s, host memcpy {r['memcpy_GBs']:.1f} GB/s "
-              f"(bytes read + written per second)")
+        print(
+            f"copy bandwidth ({r['threads']} threads): Taichi kernel {r['taichi_copy_GBs']:.1f} GB/s, "
+            f"Taichi runtime copy {r['runtime_copy_GBs']:.1f} GB/s, host memcpy {r['memcpy_GBs']:.1f} GB/s "
+            f"(bytes read + written per second)"
+        )
     base = results[0]
     for r in results[1:]:
         for label in r["cases"]:
-            print(f"thread scaling {label}: {base['threads']} -> {r['threads']} threads: "
-                  f"{base['cases'][label]['ms_per_step'] / r['cases'][label]['ms_per_step']:.2f}x")
+            print(
+                f"thread scaling {label}: {base['threads']} -> {r['threads']} threads: "
+                f"{base['cases'][label]['ms_per_step'] / r['cases'][label]['ms_per_step']:.2f}x"
+            )
     for r in results:
         if "wheel" in r:
             w = r["wheel"]
-            print(f"paper wheel ({r['threads']} threads): {w['particles']} points, dt {w['dt']:.3g} s, "
-                  f"{w['ms_per_step']:.2f} ms/step -> {w['wall_s_per_physical_s']:.0f} s wall per physical second; "
-                  f"with its dynamics on the host (impulse read back each step) {w['host_body_ms_per_step']:.2f} ms/step, "
-                  f"{w['host_body_ms_per_step'] / w['ms_per_step']:.2f}x")
+            print(
+                f"paper wheel ({r['threads']} threads): {w['particles']} points, dt {w['dt']:.3g} s, "
+                f"{w['ms_per_step']:.2f} ms/step -> {w['wall_s_per_physical_s']:.0f} s wall per physical second; "
+                f"with its dynamics on the host (impulse read back each step) {w['host_body_ms_per_step']:.2f} ms/step, "
+                f"{w['host_body_ms_per_step'] / w['ms_per_step']:.2f}x"
+            )
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ as a share of the wall time (a worker below 100 % waited for work).
     python benchmarks/bench_threads.py --work 100 --rounds 9
 """
 
-
 import argparse
 import json
 import os
@@ -29,7 +28,9 @@ def _thread_cpu() -> dict[str, float]:
     tick = os.sysconf("SC_CLK_TCK")
     out = {}
     for task in Path("/proc/self/task").iterdir():
-        fields = (task / "stat").read_text().rsplit(")", 1)[1].split()  # after "(comm)": utime, stime (fields 14, 15 of proc(5))
+        fields = (
+            (task / "stat").read_text().rsplit(")", 1)[1].split()
+        )  # after "(comm)": utime, stime (fields 14, 15 of proc(5))
         out[task.name] = (int(fields[11]) + int(fields[12])) / tick
     return out
 
@@ -59,8 +60,13 @@ def measure(threads: int, work: int, seconds: float) -> dict:
     wall = time.perf_counter() - t0
     c1 = _thread_cpu()
     shares = sorted(((c1[k] - c0.get(k, 0.0)) / wall for k in c1), reverse=True)
-    return {"threads": threads, "work": work, "ms_per_launch": wall / n * 1e3, "launches": n,
-            "busy_thread_shares": [round(s, 3) for s in shares if s > 0.02]}
+    return {
+        "threads": threads,
+        "work": work,
+        "ms_per_launch": wall / n * 1e3,
+        "launches": n,
+        "busy_thread_shares": [round(s, 3) for s in shares if s > 0.02],
+    }
 
 
 def main() -> None:
@@ -83,21 +89,31 @@ def main() -> None:
     for r in range(args.rounds):
         for work in works:
             for threads in (1, 2):  # interleaved: each round measures both in the same minute
-                out = subprocess.run([sys.executable, __file__, "--child", str(threads), str(work),
-                                      "--seconds", str(args.seconds)], capture_output=True, text=True, check=True)
+                out = subprocess.run(
+                    [sys.executable, __file__, "--child", str(threads), str(work), "--seconds", str(args.seconds)],
+                    capture_output=True,
+                    text=True,
+                    check=True,
+                )
                 results.setdefault((work, threads), []).append(json.loads(out.stdout.strip().splitlines()[-1]))
         print(f"round {r + 1}/{args.rounds} done", file=sys.stderr, flush=True)
-    print(f"{'work':>6} {'threads':>7} {'ms/launch min':>13} {'median':>8} {'busy threads (share of wall), median run':>42}")
+    print(
+        f"{'work':>6} {'threads':>7} {'ms/launch min':>13} {'median':>8} {'busy threads (share of wall), median run':>42}"
+    )
     for work in works:
         med = {}
         for threads in (1, 2):
             rows = sorted(results[(work, threads)], key=lambda d: d["ms_per_launch"])
             ms = [d["ms_per_launch"] for d in rows]
             med[threads] = ms[len(ms) // 2]
-            print(f"{work:6d} {threads:7d} {ms[0]:13.3f} {med[threads]:8.3f} {str(rows[len(rows) // 2]['busy_thread_shares']):>42}")
+            print(
+                f"{work:6d} {threads:7d} {ms[0]:13.3f} {med[threads]:8.3f} {str(rows[len(rows) // 2]['busy_thread_shares']):>42}"
+            )
         ratios = sorted(a["ms_per_launch"] / b["ms_per_launch"] for a, b in zip(results[(work, 1)], results[(work, 2)]))
-        print(f"{'':6} 1 -> 2 threads: {med[1] / med[2]:.2f}x (median of the medians); per round "
-              f"{ratios[0]:.2f}-{ratios[-1]:.2f}x")
+        print(
+            f"{'':6} 1 -> 2 threads: {med[1] / med[2]:.2f}x (median of the medians); per round "
+            f"{ratios[0]:.2f}-{ratios[-1]:.2f}x"
+        )
 
 
 if __name__ == "__main__":

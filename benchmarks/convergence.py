@@ -53,6 +53,7 @@ def transfer(flip: float | None):
 
     return TransferConfig(flip=flip, **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
 
+
 # targets of issue 52: |change| per dt halving, per h halving between the two finest cells
 DT_TARGET = 0.01
 H_TARGET = {"plate": 0.05, "wheel30": 0.05, "wheel90": 0.05, "footing": 0.05}
@@ -66,8 +67,15 @@ def backend(threads: int) -> dict:
 
 # ---------------------------------------------------------------------------------------------- cases
 def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
-    from intrusim.mpm.config import (BedConfig, DomainConfig, MaterialConfig, MPMConfig, OutputConfig, Rectangle,
-                                     TimeConfig)
+    from intrusim.mpm.config import (
+        BedConfig,
+        DomainConfig,
+        MaterialConfig,
+        MPMConfig,
+        OutputConfig,
+        Rectangle,
+        TimeConfig,
+    )
     from intrusim.mpm.solver import Solver
 
     size = (0.5, 0.15)
@@ -75,26 +83,45 @@ def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str
         domain=DomainConfig(size=size, cells=(round(size[0] / h), round(size[1] / h))),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.1, z1=0.1)]),
-        time=TimeConfig(t_end=0.6, cfl=cfl), transfer=transfer(flip),
-        output=OutputConfig(record_every=0.1), backend=backend(threads),
+        time=TimeConfig(t_end=0.6, cfl=cfl),
+        transfer=transfer(flip),
+        output=OutputConfig(record_every=0.1),
+        backend=backend(threads),
     )
     solver = Solver(cfg)
     rows = solver.run()
     d = solver.particle_fields()
     x, m = d["x"][:, 0], d["mass"]
-    return {"runout_m": float(np.quantile(x, 0.99)), "centre_m": float((m * x).sum() / m.sum()),
-            "final_ke_J_per_m": rows[-1]["kinetic_energy"], "steps": solver.step_count, "points": solver.particles.n}
+    return {
+        "runout_m": float(np.quantile(x, 0.99)),
+        "centre_m": float((m * x).sum() / m.sum()),
+        "final_ke_J_per_m": rows[-1]["kinetic_energy"],
+        "steps": solver.step_count,
+        "points": solver.particles.n,
+    }
 
 
 def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float, band: float | None = None):
-    from intrusim.mpm.config import (BedConfig, BoundaryConfig, DomainConfig, MaterialConfig, MPMConfig,
-                                     ObstacleConfig, OutputConfig, Rectangle, TimeConfig, WallConfig)
+    from intrusim.mpm.config import (
+        BedConfig,
+        BoundaryConfig,
+        DomainConfig,
+        MaterialConfig,
+        MPMConfig,
+        ObstacleConfig,
+        OutputConfig,
+        Rectangle,
+        TimeConfig,
+        WallConfig,
+    )
 
     lx, floor, thick, fill = 0.3, 0.04, 0.02, 0.2
     lz = floor + fill + 0.06
     a, b = (lx - width) / 2, (lx + width) / 2
-    slabs = [[(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
-             [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)]]
+    slabs = [
+        [(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
+        [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)],
+    ]
     extra = {} if band is None else {"contact_band_cells": band}  # the static obstacles' band
     return MPMConfig(
         domain=DomainConfig(size=(lx, lz), cells=(round(lx / h), round(lz / h))),
@@ -102,8 +129,11 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=floor, x1=lx, z1=floor + fill)]),
         boundaries=BoundaryConfig(floor=WallConfig(kind="open")),
         obstacles=[ObstacleConfig(vertices=s, mu=0.5) for s in slabs],
-        time=TimeConfig(t_end=0.35, cfl=cfl, v_max_expected=2.0), transfer=transfer(flip),
-        output=OutputConfig(record_every=0.01, guard_every_steps=20), backend=backend(threads), **extra,
+        time=TimeConfig(t_end=0.35, cfl=cfl, v_max_expected=2.0),
+        transfer=transfer(flip),
+        output=OutputConfig(record_every=0.01, guard_every_steps=20),
+        backend=backend(threads),
+        **extra,
     )
 
 
@@ -137,12 +167,24 @@ def wheel(rpm: float):
 
         base = paper_settings("wheel")
         cells = tuple(round(length / h) for length in base.domain)
-        settings = base.validated_copy(cells=cells, t_max=2.0, cpu_threads=threads, cfl=cfl, flip=flip,
-                                       **({} if BAND is None else {"contact_band_cells": BAND}),
-                                       **({} if PIC_TIME is None else {"pic_time": PIC_TIME}))
+        settings = base.validated_copy(
+            cells=cells,
+            t_max=2.0,
+            cpu_threads=threads,
+            cfl=cfl,
+            flip=flip,
+            **({} if BAND is None else {"contact_band_cells": BAND}),
+            **({} if PIC_TIME is None else {"pic_time": PIC_TIME}),
+        )
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
-        return {"v_m_per_s": st.velocity, "sinkage_m": st.sinkage, "slip": st.slip, "steps": st.steps,
-                "v_std_m_per_s": st.velocity_std, "drift": st.drift}
+        return {
+            "v_m_per_s": st.velocity,
+            "sinkage_m": st.sinkage,
+            "slip": st.slip,
+            "steps": st.steps,
+            "v_std_m_per_s": st.velocity_std,
+            "drift": st.drift,
+        }
 
     return run
 
@@ -155,8 +197,15 @@ def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, f
     depth, speed, force = [], [], []
     for d in DRAG_DEPTHS:
         for v in DRAG_SPEEDS_QUICK:
-            case = PlateDragCase(depth=d, speed=v, travel=0.04, cells=(round(0.30 / h), round(0.15 / h)), cfl=cfl,
-                                 flip=flip, **({} if BAND is None else {"contact_band_cells": BAND}))
+            case = PlateDragCase(
+                depth=d,
+                speed=v,
+                travel=0.04,
+                cells=(round(0.30 / h), round(0.15 / h)),
+                cfl=cfl,
+                flip=flip,
+                **({} if BAND is None else {"contact_band_cells": BAND}),
+            )
             rows = Solver(case.config(**backend(threads))).run()
             depth.append(d)
             speed.append(v)
@@ -237,8 +286,10 @@ def cell_sizes(results: dict, name: str, variant: str) -> list[float]:
 
 def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
     """The rows of ``variant``'s runs; ``every_case``: a "not run" row for each case without any."""
-    lines = ["| case | quantity | h (mm) | at dt | at dt/2 | per dt halving | per h halving (at dt) | target |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| case | quantity | h (mm) | at dt | at dt/2 | per dt halving | per h halving (at dt) | target |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for name, (_, h0, quantities) in CASES.items():
         hs = cell_sizes(results, name, variant)
         if not hs and not every_case:
@@ -252,15 +303,19 @@ def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
                 a, b = (results.get(f"{name}|h={h_mm:g}mm|cfl={cfl:g}|{variant}", {}).get(q) for cfl in CFL)
                 dt_change = None if a is None or b is None else b / a - 1
                 h_change = None if a is None or prev is None else a / prev - 1
-                lines.append(f"| {name} | {q} | {h_mm:g} | {fmt(a)} | {fmt(b)} | {pct(a, b)} | {pct(prev, a)} | "
-                             f"{verdict(name, q, dt_change, h_change, a)} |")
+                lines.append(
+                    f"| {name} | {q} | {h_mm:g} | {fmt(a)} | {fmt(b)} | {pct(a, b)} | {pct(prev, a)} | "
+                    f"{verdict(name, q, dt_change, h_change, a)} |"
+                )
                 prev = a
     return lines
 
 
-TITLES = {"default": "The default transfer (FLIP with a PIC share per step exp(-dt / tau)) and contact band",
-          "flip=0": "APIC (`transfer.flip = 0`, the former default), default contact band",
-          "flip=1": "FLIP (`transfer.flip = 1`), default contact band"}
+TITLES = {
+    "default": "The default transfer (FLIP with a PIC share per step exp(-dt / tau)) and contact band",
+    "flip=0": "APIC (`transfer.flip = 0`, the former default), default contact band",
+    "flip=1": "FLIP (`transfer.flip = 1`), default contact band",
+}
 
 
 def write_doc(path: Path, results: dict) -> None:
@@ -269,9 +324,21 @@ def write_doc(path: Path, results: dict) -> None:
     variants = sorted({k.split("|", 3)[3] for k in results}, key=lambda v: (v != "default", v))
     body = [begin]
     for v in variants:
-        title = TITLES.get(v, f"`{v}` (" + ", ".join(
-            "APIC" if p == "flip=0" else "contact band " + p[5:] if p.startswith("band=") else
-            "the default transfer" if p == "default" else p for p in v.split("|")) + ")")
+        title = TITLES.get(
+            v,
+            f"`{v}` ("
+            + ", ".join(
+                "APIC"
+                if p == "flip=0"
+                else "contact band " + p[5:]
+                if p.startswith("band=")
+                else "the default transfer"
+                if p == "default"
+                else p
+                for p in v.split("|")
+            )
+            + ")",
+        )
         body += ["", f"{title}:", ""] + table(results, v, every_case=v == "default")
     body += ["", end]
     text = path.read_text() if path.exists() else f"# Convergence\n\n{begin}\n{end}\n"
@@ -284,21 +351,36 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cases", nargs="+", default=["collapse", "silo"], choices=sorted(CASES))
     ap.add_argument("--levels", type=int, default=2, help="cell sizes: h, h/2 (, h/4 with 3)")
-    ap.add_argument("--dt-levels", type=int, default=None, help="run dt/2 at this many of the coarsest cells (default all)")
+    ap.add_argument(
+        "--dt-levels", type=int, default=None, help="run dt/2 at this many of the coarsest cells (default all)"
+    )
     ap.add_argument("--threads", type=int, default=1)
-    ap.add_argument("--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default")
-    ap.add_argument("--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)")
-    ap.add_argument("--pic-time", type=float, default=None,
-                    help="transfer.pic_time of the default transfer (collapse, silo, wheels; default: the config's)")
+    ap.add_argument(
+        "--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default"
+    )
+    ap.add_argument(
+        "--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)"
+    )
+    ap.add_argument(
+        "--pic-time",
+        type=float,
+        default=None,
+        help="transfer.pic_time of the default transfer (collapse, silo, wheels; default: the config's)",
+    )
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
-    if args.levels < 1 or args.threads < 1 or (args.flip is not None and not 0 <= args.flip <= 1) or (
-            args.band is not None and args.band < 0):
+    if (
+        args.levels < 1
+        or args.threads < 1
+        or (args.flip is not None and not 0 <= args.flip <= 1)
+        or (args.band is not None and args.band < 0)
+    ):
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
     global BAND, PIC_TIME
     BAND, PIC_TIME = args.band, args.pic_time
-    results = run_cases(args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels,
-                        args.threads, args.flip)
+    results = run_cases(
+        args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels, args.threads, args.flip
+    )
     print("\n".join(table(results, key("", 0.0, 0.0, args.flip).split("|", 3)[3])))
     if args.write is not None:
         write_doc(args.write, results)

@@ -17,7 +17,11 @@ import math
 import time
 
 from intrusim.mpm.footing import (
-    FootingCase, n_gamma_at, n_gamma_hansen, n_gamma_martin, n_gamma_vesic,
+    FootingCase,
+    n_gamma_at,
+    n_gamma_hansen,
+    n_gamma_martin,
+    n_gamma_vesic,
 )
 from intrusim.mpm.solver import Solver, time_step_limits
 
@@ -33,7 +37,11 @@ def main() -> None:
     ap.add_argument("--band", type=float, default=1.0, help="contact band, cells (--contact band)")
     args = ap.parse_args()
     cells = [int(c) for c in args.cells.split(",")]
-    header = "| cells across | dt (s) | " + " | ".join(f"N_gamma, s/B {a:g}-{b:g}" for a, b in WINDOWS) + " | points | wall (s) |"
+    header = (
+        "| cells across | dt (s) | "
+        + " | ".join(f"N_gamma, s/B {a:g}-{b:g}" for a, b in WINDOWS)
+        + " | points | wall (s) |"
+    )
     print(header)
     print("|" + "---|" * (header.count("|") - 1))
     case = None
@@ -41,18 +49,22 @@ def main() -> None:
         case = FootingCase(cells_across=c, contact=args.contact, contact_band_cells=args.band)
         limits = time_step_limits(case.config())
         dt0 = min(limits["dt_elastic"], limits["dt_motion"])
-        for dt in ([dt0, dt0 / 2] if args.dt_halving else [dt0]):
+        for dt in [dt0, dt0 / 2] if args.dt_halving else [dt0]:
             case = FootingCase(cells_across=c, contact=args.contact, contact_band_cells=args.band, dt=dt)
             t0 = time.perf_counter()
             solver = Solver(case.config(cpu_threads=args.threads))
             rows = solver.run()
             wall = time.perf_counter() - t0
             ng = [n_gamma_at(case, rows, w) for w in WINDOWS]
-            print(f"| {c} | {dt:.3g} | " + " | ".join(f"{v:.1f}" for v in ng) + f" | {solver.particles.n} | {wall:.0f} |",
-                  flush=True)
+            print(
+                f"| {c} | {dt:.3g} | " + " | ".join(f"{v:.1f}" for v in ng) + f" | {solver.particles.n} | {wall:.0f} |",
+                flush=True,
+            )
     phi = math.asin(case.mu_s)
-    print(f"\nphi = asin({case.mu_s}) = {math.degrees(phi):.2f} deg: N_gamma Hansen {n_gamma_hansen(phi):.1f}, "
-          f"Vesic {n_gamma_vesic(phi):.1f}, Martin (exact, rough) {n_gamma_martin(phi):.1f}")
+    print(
+        f"\nphi = asin({case.mu_s}) = {math.degrees(phi):.2f} deg: N_gamma Hansen {n_gamma_hansen(phi):.1f}, "
+        f"Vesic {n_gamma_vesic(phi):.1f}, Martin (exact, rough) {n_gamma_martin(phi):.1f}"
+    )
 
 
 if __name__ == "__main__":

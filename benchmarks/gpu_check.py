@@ -66,9 +66,18 @@ def run_wheel(arch: str, threads: int | None, omega_rpm: float, t_end: float, re
     wall = time.perf_counter() - t0
     steps = max(1, solver.step_count - 1)
     series = {k: [float(r[k]) for r in solver.rows] for k in ("time", *SERIES)}
-    return {"arch": backend.arch, "threads": threads or os.cpu_count(), "particles": solver.particles.n,
-            "dt": solver.dt, "steps": solver.step_count, "build_s": build, "first_step_s": first,
-            "ms_per_step": wall / steps * 1e3, "wall_s_per_physical_s": wall / steps / solver.dt, "series": series}
+    return {
+        "arch": backend.arch,
+        "threads": threads or os.cpu_count(),
+        "particles": solver.particles.n,
+        "dt": solver.dt,
+        "steps": solver.step_count,
+        "build_s": build,
+        "first_step_s": first,
+        "ms_per_step": wall / steps * 1e3,
+        "wall_s_per_physical_s": wall / steps / solver.dt,
+        "series": series,
+    }
 
 
 def compare(a: dict, b: dict) -> dict:
@@ -82,8 +91,13 @@ def compare(a: dict, b: dict) -> dict:
         x, y = np.asarray(a["series"][k][:n]), np.asarray(b["series"][k][:n])
         diff = float(np.max(np.abs(y - x)))
         scale = float(np.max(np.abs(x)))
-        out[k] = {"max_abs_diff": diff, "max_abs": scale, "relative": diff / scale if scale > 0 else float("nan"),
-                  "end_a": float(x[-1]), "end_b": float(y[-1])}
+        out[k] = {
+            "max_abs_diff": diff,
+            "max_abs": scale,
+            "relative": diff / scale if scale > 0 else float("nan"),
+            "end_a": float(x[-1]),
+            "end_b": float(y[-1]),
+        }
     return out
 
 
@@ -104,8 +118,18 @@ def main() -> None:
         return
     runs = []  # the CPU run, then the other backend's (--arch cpu: the CPU against itself, a determinism check)
     for arch in ("cpu", args.arch):
-        cmd = [sys.executable, __file__, "--child", arch, "--omega-rpm", str(args.omega_rpm),
-               "--t-end", str(args.t_end), "--record-every", str(args.record_every)]
+        cmd = [
+            sys.executable,
+            __file__,
+            "--child",
+            arch,
+            "--omega-rpm",
+            str(args.omega_rpm),
+            "--t-end",
+            str(args.t_end),
+            "--record-every",
+            str(args.record_every),
+        ]
         if args.threads is not None:
             cmd += ["--threads", str(args.threads)]
         proc = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ, "INTRUSIM_TI_ARCH": ""})
@@ -114,16 +138,22 @@ def main() -> None:
         runs.append(json.loads(proc.stdout.strip().splitlines()[-1]))
     cpu, gpu = runs
     diff = compare(cpu, gpu)
-    print(f"paper wheel, {args.omega_rpm:g} RPM, {cpu['particles']} points, dt {cpu['dt']:.3g} s, "
-          f"{args.t_end:g} s of physical time ({cpu['steps']} steps)")
+    print(
+        f"paper wheel, {args.omega_rpm:g} RPM, {cpu['particles']} points, dt {cpu['dt']:.3g} s, "
+        f"{args.t_end:g} s of physical time ({cpu['steps']} steps)"
+    )
     for r in (cpu, gpu):
-        print(f"  {r['arch']:>6} ({r['threads']} CPU threads): {r['ms_per_step']:.3f} ms/step, "
-              f"{r['wall_s_per_physical_s']:.1f} s wall per physical second "
-              f"(build {r['build_s']:.1f} s, first step {r['first_step_s']:.1f} s)")
+        print(
+            f"  {r['arch']:>6} ({r['threads']} CPU threads): {r['ms_per_step']:.3f} ms/step, "
+            f"{r['wall_s_per_physical_s']:.1f} s wall per physical second "
+            f"(build {r['build_s']:.1f} s, first step {r['first_step_s']:.1f} s)"
+        )
     print(f"  {args.arch} / cpu speed: {cpu['ms_per_step'] / gpu['ms_per_step']:.2f}x")
     print(f"  largest difference {args.arch} - cpu over the run (absolute, / largest |cpu value|; values at the end):")
     for k, d in diff.items():
-        print(f"    {k:>6}: {d['max_abs_diff']:.4g} ({d['relative']:.2%}); end cpu {d['end_a']:.5g}, {args.arch} {d['end_b']:.5g}")
+        print(
+            f"    {k:>6}: {d['max_abs_diff']:.4g} ({d['relative']:.2%}); end cpu {d['end_a']:.5g}, {args.arch} {d['end_b']:.5g}"
+        )
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"runs": runs, "difference": diff, "args": vars(args)}, f)

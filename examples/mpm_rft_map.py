@@ -78,13 +78,17 @@ def run(
     out: Path = typer.Option(..., help="folder; OUT/alpha_map.csv grows one row per finished case"),
     betas: str = typer.Option("-60,-30,0,30,60,90", help="plate orientations, degrees"),
     gammas: str = typer.Option("-90,-60,-30,0,30,60,90", help="motion directions, degrees"),
-    depth_mm: float = typer.Option(40.0), plate_mm: float = typer.Option(25.0),
+    depth_mm: float = typer.Option(40.0),
+    plate_mm: float = typer.Option(25.0),
     thickness_mm: float = typer.Option(5.0, help="plate thickness (keep it 2 cells or more)"),
-    cell_mm: float = typer.Option(2.5), band: float = typer.Option(0.0, help="contact band, cells"),
-    bed_mm: float = typer.Option(150.0), domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
+    cell_mm: float = typer.Option(2.5),
+    band: float = typer.Option(0.0, help="contact band, cells"),
+    bed_mm: float = typer.Option(150.0),
+    domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
     workers: int = typer.Option(2, min=1),
     fluidity_diameter: Optional[float] = typer.Option(
-        None, help="nonlocal granular fluidity with grains of this diameter, m, in place of the paper's law"),
+        None, help="nonlocal granular fluidity with grains of this diameter, m, in place of the paper's law"
+    ),
 ) -> None:
     """Run the plate cases not yet in OUT/alpha_map.csv, ``workers`` processes of one thread each."""
     try:

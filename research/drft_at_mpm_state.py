@@ -96,8 +96,12 @@ def plot_halves(parts: list[dict], path: Path) -> None:
     for ax, field in zip(axes, ("fx", "fz")):
         for i, (w, model) in enumerate(keys):
             for j, half in enumerate(("front", "rear")):
-                v = [r[field] for r in halves if (r["omega_rpm"], r["model"]) == (w, model) and r["part"].endswith(half)][0]
-                color = ("k" if model == "MPM" else "C1") if half == "front" else ("0.6" if model == "MPM" else "#f5c38f")
+                v = [
+                    r[field] for r in halves if (r["omega_rpm"], r["model"]) == (w, model) and r["part"].endswith(half)
+                ][0]
+                color = (
+                    ("k" if model == "MPM" else "C1") if half == "front" else ("0.6" if model == "MPM" else "#f5c38f")
+                )
                 ax.bar(i + 0.4 * j - 0.2, v, width=0.38, color=color, label=f"{model}, {'ahead of' if half == 'front' else 'behind'} the centre" if i < 2 else None)  # fmt: skip
         ax.set_xticks(range(len(keys)), [f"{w:g} RPM\n{m}" for w, m in keys], fontsize=7)
         ax.set_ylabel(f"mean {field} on the wheel (N)")
@@ -146,7 +150,13 @@ def main() -> None:
         rows.append({**base, "model": "MPM", **dict(zip(FIELDS, mpm))})
         built = models(scenario, calibrations, args.lug_scale)
         for label, model in built.items():
-            rows.append({**base, "model": label, **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"])))})
+            rows.append(
+                {
+                    **base,
+                    "model": label,
+                    **dict(zip(FIELDS, mean_wrench_along(model, s, meta["settings"]["bed_depth"]))),
+                }
+            )
         if args.parts:
             split = part_forces(built["DRFT (paper)"], s, meta["settings"]["bed_depth"])
             for half in ("front", "rear"):
@@ -156,8 +166,19 @@ def main() -> None:
             if ahead is not None:  # the MPM's own split (grid nodes ahead of / behind the centre)
                 entries += [("MPM", "all parts, front", ahead), ("MPM", "all parts, rear", mpm[:2] - ahead)]
             for model_name, name, (fx, fz) in entries:
-                parts.append({"run": run.name, "omega_rpm": base["omega_rpm"], "model": model_name, "part": name, "fx": fx, "fz": fz})
-        print(f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s")
+                parts.append(
+                    {
+                        "run": run.name,
+                        "omega_rpm": base["omega_rpm"],
+                        "model": model_name,
+                        "part": name,
+                        "fx": fx,
+                        "fz": fz,
+                    }
+                )
+        print(
+            f"{run.name}: {meta['omega_rpm']:g} RPM, {win.sum()} samples over {s['time'][0]:.2f}-{s['time'][-1]:.2f} s"
+        )
         for r in (r for r in rows if r["run"] == run.name):
             print(f"  {r['model']:<28s} fx {r['fx']:8.2f} N  fz {r['fz']:8.2f} N  moment {r['moment']:7.3f} N m")
         for r in (r for r in parts if r["run"] == run.name):

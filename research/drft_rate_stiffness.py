@@ -61,7 +61,9 @@ def held_pair(path: Path) -> dict:
     mpm = sorted((float(r["omega_rpm"]), float(r["fz"])) for r in rows if r["model"] == "MPM")
     drft = sorted((float(r["omega_rpm"]), float(r["fz"])) for r in rows if r["model"].startswith(DRFT_LABEL))
     if len(mpm) != 2 or len(drft) != 2 or mpm[0][0] == mpm[1][0]:
-        raise SystemExit(f"{path}: need two MPM rows at two omegas and two {DRFT_LABEL} rows, got {len(mpm)} and {len(drft)}")
+        raise SystemExit(
+            f"{path}: need two MPM rows at two omegas and two {DRFT_LABEL} rows, got {len(mpm)} and {len(drft)}"
+        )
     (wa, fa), (wb, fb) = mpm
     (_, da), (_, db) = drft
     ln_w = math.log(wb / wa)
@@ -154,7 +156,11 @@ def analyse(held: list[Path], calibration: Path, fit_csv: Path, check_csv: Path,
     xi_drop = fit_xi_ref(model, 0.0, fit, omega_ref, own_drop=True)
     fits["the MPM's own drop"] = {"c": 0.0, "xi_ref": xi_drop}
     for r in fit + check:
-        rows.append(_row("the MPM's own drop", 0.0, xi_drop, xi_drop, model.state(r["omega_rpm"], xi_drop, r["surface_drop"]), r))
+        rows.append(
+            _row(
+                "the MPM's own drop", 0.0, xi_drop, xi_drop, model.state(r["omega_rpm"], xi_drop, r["surface_drop"]), r
+            )
+        )
     xi0 = fits["xi-DRFT (c = 0)"]["xi_ref"]
     for r in check:
         xi = xi_for_sinkage(model, r["omega_rpm"], r["sinkage"])
@@ -183,15 +189,24 @@ def plot(result: dict, path: Path) -> None:
     axes[0].legend(fontsize=7, title="rate exponent c", title_fontsize=7)
     xi0 = fits["xi-DRFT (c = 0)"]["xi_ref"]
     need = sorted((r for r in rows if r["model"] == "xi for the MPM sinkage"), key=lambda r: r["omega_rpm"])
-    axes[2].plot([r["omega_rpm"] for r in need], [r["xi"] / xi0 for r in need], "ks:", label="xi giving the MPM sinkage / 1.94")
+    axes[2].plot(
+        [r["omega_rpm"] for r in need], [r["xi"] / xi0 for r in need], "ks:", label="xi giving the MPM sinkage / 1.94"
+    )
     w = np.geomspace(8, 100, 50)
     for p in result["pairs"]:
-        axes[2].plot(w, (w / result["omega_ref"]) ** p["c"], lw=1, label=f"{p['pair'].removeprefix('drft_at_switch_')} state, {p['omega_a']:g} -> {p['omega_b']:g} RPM: c {p['c']:.3f}")
+        axes[2].plot(
+            w,
+            (w / result["omega_ref"]) ** p["c"],
+            lw=1,
+            label=f"{p['pair'].removeprefix('drft_at_switch_')} state, {p['omega_a']:g} -> {p['omega_b']:g} RPM: c {p['c']:.3f}",
+        )
     axes[2].set_xscale("log")
     axes[2].set_xlabel("omega (RPM)")
     axes[2].set_ylabel("xi / xi fitted at 30-90 RPM")
     axes[2].legend(fontsize=7)
-    fig.suptitle("A stiffness that grows with the rate (xi ~ omega^c, c from the held pairs) against the nonlocal-law MPM wheel")
+    fig.suptitle(
+        "A stiffness that grows with the rate (xi ~ omega^c, c from the held pairs) against the nonlocal-law MPM wheel"
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -221,7 +236,9 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
         w.writerows(result["rows"])
-    args.out.with_suffix(".json").write_text(json.dumps({"omega_ref_rpm": args.omega_ref, "fits": result["fits"]}, indent=1))
+    args.out.with_suffix(".json").write_text(
+        json.dumps({"omega_ref_rpm": args.omega_ref, "fits": result["fits"]}, indent=1)
+    )
     plot(result, args.out.with_suffix(".png"))
     for p in result["pairs"]:
         print(f"{p['pair']}: {p['omega_a']:g} -> {p['omega_b']:g} RPM, MPM Fz {p['mpm_fz_a']:.2f} -> {p['mpm_fz_b']:.2f} N, "

@@ -49,13 +49,23 @@ def snapshot_drops(path: Path, bed_depth: float, rho_c: float, gravity: float, h
     for tol in TOL_FACTORS:
         for band in BAND_CELLS:
             out[f"contact_tol{tol:g}_band{band:g}"] = rear_contact_drop(
-                d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=band * h, pressure_tol=tol * rho_c * gravity * h)
+                d["x"],
+                d["pressure"],
+                poly,
+                (x, z),
+                1.0,
+                bed_depth,
+                band=band * h,
+                pressure_tol=tol * rho_c * gravity * h,
+            )
     pos, p = d["x"], d["pressure"]
     tol, band = 0.5 * rho_c * gravity * h, h
     out["lowest_free_tol0.5_band1"] = rear_contact_drop(
-        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, rule="lowest_free")
+        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, rule="lowest_free"
+    )
     out["loaded_below_surface_tol0.5_band1"] = rear_contact_drop(
-        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, below_surface_only=True)
+        pos, p, poly, (x, z), 1.0, bed_depth, band=band, pressure_tol=tol, below_surface_only=True
+    )
     reach = float(np.max(np.hypot(poly[:, 0] - x, poly[:, 1] - z)))
     out["wake"] = wake_drop(pos, x - reach, 1.0, bed_depth, (h, 3 * h))
     return out
@@ -72,14 +82,26 @@ def measure(roots: list[str]) -> list[dict]:
         if not snaps:
             continue
         s = meta["settings"]
-        scenario = small_wheel_scenario() if meta["scenario"]["name"].startswith("small") else grousered_wheel_scenario()
+        scenario = (
+            small_wheel_scenario() if meta["scenario"]["name"].startswith("small") else grousered_wheel_scenario()
+        )
         h = s["domain"][0] / s["cells"][0]
         per = [snapshot_drops(p, s["bed_depth"], s["rho_c"], scenario.gravity, h) for p in snaps]
         for choice in per[0]:
             dh = np.array([q[choice] for q in per])
-            rows.append({"run": meta_path.parent.name, "wheel": scenario.name, "omega_rpm": meta["omega_rpm"],
-                         "radius": scenario.radius, "cell": h, "band": s["contact_band_cells"], "choice": choice,
-                         "dh": float(np.nanmean(dh)) if np.isfinite(dh).any() else float("nan"), "snapshots": len(dh)})
+            rows.append(
+                {
+                    "run": meta_path.parent.name,
+                    "wheel": scenario.name,
+                    "omega_rpm": meta["omega_rpm"],
+                    "radius": scenario.radius,
+                    "cell": h,
+                    "band": s["contact_band_cells"],
+                    "choice": choice,
+                    "dh": float(np.nanmean(dh)) if np.isfinite(dh).any() else float("nan"),
+                    "snapshots": len(dh),
+                }
+            )
             print(f"{rows[-1]['run']:45s} {choice:28s} dh = {rows[-1]['dh'] * 1e3:6.1f} mm", flush=True)
     if not rows:
         raise SystemExit(f"no wheel run folders with fields_*.npz snapshots under {roots}")
@@ -107,13 +129,23 @@ def plot(rows: list[dict], fits: dict[str, dict[str, float]], path: Path, gravit
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    shown = ["contact_tol0.05_band1", "contact_tol0.5_band1", "contact_tol2_band1", "contact_tol0.5_band0.5",
-             "contact_tol0.5_band2", "lowest_free_tol0.5_band1", "loaded_below_surface_tol0.5_band1", "wake"]
+    shown = [
+        "contact_tol0.05_band1",
+        "contact_tol0.5_band1",
+        "contact_tol2_band1",
+        "contact_tol0.5_band0.5",
+        "contact_tol0.5_band2",
+        "lowest_free_tol0.5_band1",
+        "loaded_below_surface_tol0.5_band1",
+        "wake",
+    ]
     wheels = sorted({r["wheel"] for r in rows})
     for k, choice in enumerate(shown):
         colour = plt.cm.tab10(k)
         for j, wheel in enumerate(wheels):  # one line per wheel: each wheel's points in omega order
-            sel = sorted((r for r in rows if r["choice"] == choice and r["wheel"] == wheel), key=lambda r: r["omega_rpm"])
+            sel = sorted(
+                (r for r in rows if r["choice"] == choice and r["wheel"] == wheel), key=lambda r: r["omega_rpm"]
+            )
             x = [r["radius"] * (r["omega_rpm"] * np.pi / 30) ** 2 / gravity for r in sel]
             y = [r["dh"] / r["radius"] for r in sel]
             slopes_txt = " / ".join(f"{fits[w][choice]:.2f}" for w in wheels)
@@ -123,9 +155,12 @@ def plot(rows: list[dict], fits: dict[str, dict[str, float]], path: Path, gravit
     ax.plot(xs, xs, "k:", label="paper: psi = x")
     ax.set_xlabel("r omega^2 / g")
     ax.set_ylabel("dh / r")
-    ax.set_title("Rear surface drop, measured other ways (tol x rho_c g h, band in cells)\n"
-                 + "; ".join(f"{['o', 's'][j % 2]}: {w}" for j, w in enumerate(wheels))
-                 + "; c = psi slope per wheel, in that order", fontsize=9)
+    ax.set_title(
+        "Rear surface drop, measured other ways (tol x rho_c g h, band in cells)\n"
+        + "; ".join(f"{['o', 's'][j % 2]}: {w}" for j, w in enumerate(wheels))
+        + "; c = psi slope per wheel, in that order",
+        fontsize=9,
+    )
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -147,7 +182,13 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=list(rows[0]) + ["psi_slope_all_runs", "psi_slope_this_wheel"])
         w.writeheader()
         for r in rows:
-            w.writerow({**r, "psi_slope_all_runs": fits[r["choice"]], "psi_slope_this_wheel": per_wheel[r["wheel"]][r["choice"]]})
+            w.writerow(
+                {
+                    **r,
+                    "psi_slope_all_runs": fits[r["choice"]],
+                    "psi_slope_this_wheel": per_wheel[r["wheel"]][r["choice"]],
+                }
+            )
     plot(rows, per_wheel, out.with_suffix(".png"))
     print("\npsi(x) = c x (paper: c = 1); the runs' own choice is contact_tol0.5_band1:")
     print(f"  {'choice':34s} {'all runs':>9s} " + " ".join(f"{w:>22s}" for w in wheels))

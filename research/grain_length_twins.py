@@ -60,7 +60,9 @@ def _check_twin_rpm(big_radius: float, small_radius: float) -> None:
     """The runs were made at TWIN_RPM; it must be REFERENCE_RPM at the same omega / omega_0 = omega sqrt(r / g)."""
     same = REFERENCE_RPM * math.sqrt(big_radius / small_radius)
     if abs(TWIN_RPM / same - 1.0) > 1e-5:
-        raise InputError(f"the twins' {TWIN_RPM} RPM is not the reference's omega / omega_0 for these wheels ({same:.4f} RPM)")
+        raise InputError(
+            f"the twins' {TWIN_RPM} RPM is not the reference's omega / omega_0 for these wheels ({same:.4f} RPM)"
+        )
 
 
 def per_doubling(rows: list[dict]) -> list[dict]:
@@ -93,10 +95,14 @@ def _ordered(window: tuple[float, float]) -> tuple[float, float]:
     return window
 
 
-def analyse(runs: list[tuple[Path, str, float]], reference: tuple[Path, str, float] | None,
-            window: tuple[float, float], fine: list[tuple[Path, str, float]] | None = None,
-            fine_window: tuple[float, float] | None = None,
-            small_pair: list[tuple[Path, str, float, float, tuple[float, float]]] | None = None) -> dict:
+def analyse(
+    runs: list[tuple[Path, str, float]],
+    reference: tuple[Path, str, float] | None,
+    window: tuple[float, float],
+    fine: list[tuple[Path, str, float]] | None = None,
+    fine_window: tuple[float, float] | None = None,
+    small_pair: list[tuple[Path, str, float, float, tuple[float, float]]] | None = None,
+) -> dict:
     """The twins' states over ``window`` (the reference's time), sorted by d, and the change of slip
     and sinkage / r per doubling of d between neighbours (d(value) / d(log2 d)); with ``fine`` the
     large wheels on the finer grid over ``fine_window`` (sorted by d, with their steps), with
@@ -134,7 +140,13 @@ def plot(result: dict, path: Path) -> None:
         ax.plot([r["d_over_r"] for r in rows], [r[key] for r in rows], "s-", color="C3",
                 label="half-size twins (small wheel, 2.5 mm cells)")  # fmt: skip
         if ref is not None:
-            ax.plot([ref["d_over_r"]], [ref[key]], "o", color="k", label="large wheel, 5 mm cells, 6 mm grains (the reference)")
+            ax.plot(
+                [ref["d_over_r"]],
+                [ref[key]],
+                "o",
+                color="k",
+                label="large wheel, 5 mm cells, 6 mm grains (the reference)",
+            )
         if "fine" in result:
             fine = result["fine"]
             ax.plot([r["d_over_r"] for r in fine], [r[key] for r in fine], "o-", color="C0",
@@ -148,7 +160,11 @@ def plot(result: dict, path: Path) -> None:
     handles, names = axes[0].get_legend_handles_labels()
     fig.legend(handles, names, fontsize=8, loc="lower center", ncol=2)
     w = result["window"]
-    fine = f"; 2.5 mm large wheels over {result['fine_window'][0]:g}-{result['fine_window'][1]:g} s" if "fine" in result else ""
+    fine = (
+        f"; 2.5 mm large wheels over {result['fine_window'][0]:g}-{result['fine_window'][1]:g} s"
+        if "fine" in result
+        else ""
+    )
     fig.suptitle(f"MPM steady state against the grain length, same omega / omega_0 (reference's {w[0]:g}-{w[1]:g} s{fine})",
                  fontsize=10)  # fmt: skip
     fig.tight_layout(rect=(0.0, 0.07 if len(names) < 3 else 0.13, 1.0, 1.0))
@@ -160,19 +176,38 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--run", nargs=3, action="append", required=True, metavar=("CSV", "LABEL", "D"))
     ap.add_argument("--reference", nargs=3, metavar=("CSV", "LABEL", "D"))
-    ap.add_argument("--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s")
-    ap.add_argument("--fine", nargs=3, action="append", metavar=("CSV", "LABEL", "D"),
-                    help="a large wheel at 30 RPM on the finer grid (repeatable)")
+    ap.add_argument(
+        "--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s"
+    )
+    ap.add_argument(
+        "--fine",
+        nargs=3,
+        action="append",
+        metavar=("CSV", "LABEL", "D"),
+        help="a large wheel at 30 RPM on the finer grid (repeatable)",
+    )
     ap.add_argument("--fine-window", nargs=2, type=float, metavar=("T0", "T1"), help="the fine runs' own time, s")
-    ap.add_argument("--small-pair", nargs=6, action="append", metavar=("CSV", "LABEL", "D", "RPM", "T0", "T1"),
-                    help="a small-wheel run on the finer grid (give two omegas)")
+    ap.add_argument(
+        "--small-pair",
+        nargs=6,
+        action="append",
+        metavar=("CSV", "LABEL", "D", "RPM", "T0", "T1"),
+        help="a small-wheel run on the finer grid (give two omegas)",
+    )
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     runs = [(Path(p), lab, float(d)) for p, lab, d in args.run]
-    reference = None if args.reference is None else (Path(args.reference[0]), args.reference[1], float(args.reference[2]))
+    reference = (
+        None if args.reference is None else (Path(args.reference[0]), args.reference[1], float(args.reference[2]))
+    )
     fine = None if args.fine is None else [(Path(p), lab, float(d)) for p, lab, d in args.fine]
-    pair = None if args.small_pair is None else [
-        (Path(p), lab, float(d), float(rpm), (float(t0), float(t1))) for p, lab, d, rpm, t0, t1 in args.small_pair]
+    pair = (
+        None
+        if args.small_pair is None
+        else [
+            (Path(p), lab, float(d), float(rpm), (float(t0), float(t1))) for p, lab, d, rpm, t0, t1 in args.small_pair
+        ]
+    )
     try:
         result = analyse(runs, reference, tuple(args.window), fine, None if args.fine_window is None
                          else tuple(args.fine_window), pair)  # fmt: skip
@@ -188,10 +223,14 @@ def main() -> None:
               f"{r['windows']} windows, drift {r['drift'] * 100:+.1f} %")  # fmt: skip
     if "small_interpolated" in result:
         si = result["small_interpolated"]
-        print(f"{si['label']}: d / r {si['d_over_r']:.3f}, slip {si['slip']:.3f}, sinkage / r {si['sinkage_over_r']:.3f}")
+        print(
+            f"{si['label']}: d / r {si['d_over_r']:.3f}, slip {si['slip']:.3f}, sinkage / r {si['sinkage_over_r']:.3f}"
+        )
     for series, s in [("twins", s) for s in result["steps"]] + [("fine grid", s) for s in result.get("fine_steps", [])]:
-        print(f"{series}, d {s['from_d'] * 1e3:g} -> {s['to_d'] * 1e3:g} mm: slip {s['slip_per_doubling']:+.3f}, "
-              f"sinkage / r {s['sinkage_over_r_per_doubling']:+.3f} per doubling of d")
+        print(
+            f"{series}, d {s['from_d'] * 1e3:g} -> {s['to_d'] * 1e3:g} mm: slip {s['slip_per_doubling']:+.3f}, "
+            f"sinkage / r {s['sinkage_over_r_per_doubling']:+.3f} per doubling of d"
+        )
 
 
 if __name__ == "__main__":

@@ -48,8 +48,11 @@ def large_at(points: list[tuple[float, dict]], omega_rpm: float, radius: float) 
     """The large wheel's slip and sinkage / r at ``omega_rpm``, linear in omega between two runs."""
     (w0, a), (w1, b) = sorted(points, key=lambda p: p[0])
     f = (omega_rpm - w0) / (w1 - w0)
-    return {"omega_rpm": omega_rpm, "slip": a["slip"] + f * (b["slip"] - a["slip"]),
-            "sinkage_over_r": (a["sinkage"] + f * (b["sinkage"] - a["sinkage"])) / radius}
+    return {
+        "omega_rpm": omega_rpm,
+        "slip": a["slip"] + f * (b["slip"] - a["slip"]),
+        "sinkage_over_r": (a["sinkage"] + f * (b["sinkage"] - a["sinkage"])) / radius,
+    }
 
 
 def verdict(state: dict) -> str:
@@ -61,8 +64,12 @@ def verdict(state: dict) -> str:
     return "in part"
 
 
-def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, str]], omega_rpm: float,
-            window: tuple[float, float]) -> tuple[list[dict], dict]:
+def analyse(
+    runs: list[tuple[Path, str, float]],
+    large_runs: list[tuple[Path, str]],
+    omega_rpm: float,
+    window: tuple[float, float],
+) -> tuple[list[dict], dict]:
     """Every window of both small-wheel runs (CSV, label, d) and the comparison over ``window``
     with the large wheel (steady CSV, label; two runs) at the same omega / omega_0."""
     r_small, r_large = small_wheel_scenario().radius, grousered_wheel_scenario().radius
@@ -79,11 +86,18 @@ def analyse(runs: list[tuple[Path, str, float]], large_runs: list[tuple[Path, st
         means.append({**wheel_state(m, omega_rpm, r_small), "grain_over_r": d / r_small})
     first, second = means
     return rows, {
-        "window": list(window), "omega_rpm": omega_rpm, "radius": r_small, "runs": means,
-        "change": {"slip": second["slip"] - first["slip"], "sinkage": second["sinkage"] - first["sinkage"],
-                   "velocity": second["velocity"] / first["velocity"] - 1.0},
+        "window": list(window),
+        "omega_rpm": omega_rpm,
+        "radius": r_small,
+        "runs": means,
+        "change": {
+            "slip": second["slip"] - first["slip"],
+            "sinkage": second["sinkage"] - first["sinkage"],
+            "velocity": second["velocity"] / first["velocity"] - 1.0,
+        },
         "large_wheel": {**large, "grain_over_r": first["grain_diameter"] / r_large},
-        "registered": {"in_full": IN_FULL, "not_at_all": NOT_AT_ALL}, "verdict": verdict(second),
+        "registered": {"in_full": IN_FULL, "not_at_all": NOT_AT_ALL},
+        "verdict": verdict(second),
     }
 
 
@@ -99,8 +113,12 @@ def main() -> None:
         raise SystemExit("give two --run and two --large")
 
     try:
-        rows, result = analyse([(Path(p), lab, float(d)) for p, lab, d in args.run],
-                               [(Path(p), lab) for p, lab in args.large], args.omega, tuple(args.window))
+        rows, result = analyse(
+            [(Path(p), lab, float(d)) for p, lab, d in args.run],
+            [(Path(p), lab) for p, lab in args.large],
+            args.omega,
+            tuple(args.window),
+        )
     except InputError as e:
         raise SystemExit(str(e)) from None
     runs, large, out = result["runs"], result["large_wheel"], Path(args.out)
@@ -109,10 +127,14 @@ def main() -> None:
     out.with_suffix(".json").write_text(json.dumps(result, indent=2) + "\n")
     plot(rows, runs, large, result["window"], out.with_suffix(".png"))
     for m in runs:
-        print(f"d {m['grain_diameter'] * 1e3:.0f} mm ({m['grain_over_r']:.3f} r), {args.window[0]}-{args.window[1]} s: "
-              f"v {m['velocity']:.4f} m/s, sinkage {m['sinkage'] * 1e3:.2f} mm, slip {m['slip']:.3f}, "
-              f"sinkage / r {m['sinkage_over_r']:.3f}, drift {m['drift'] * 100:+.1f} %")
-    print(f"large wheel at {large['omega_rpm']:.1f} RPM (steady): slip {large['slip']:.3f}, sinkage / r {large['sinkage_over_r']:.3f}")
+        print(
+            f"d {m['grain_diameter'] * 1e3:.0f} mm ({m['grain_over_r']:.3f} r), {args.window[0]}-{args.window[1]} s: "
+            f"v {m['velocity']:.4f} m/s, sinkage {m['sinkage'] * 1e3:.2f} mm, slip {m['slip']:.3f}, "
+            f"sinkage / r {m['sinkage_over_r']:.3f}, drift {m['drift'] * 100:+.1f} %"
+        )
+    print(
+        f"large wheel at {large['omega_rpm']:.1f} RPM (steady): slip {large['slip']:.3f}, sinkage / r {large['sinkage_over_r']:.3f}"
+    )
     print(f"verdict (registered thresholds): the grain length explains the size effect {result['verdict']}")
 
 

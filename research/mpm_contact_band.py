@@ -113,8 +113,13 @@ def run(args: argparse.Namespace) -> None:
     tag += "" if args.flip is None else f"_flip{args.flip:g}"
     tag += "" if args.shape is None else f"_{args.shape}"
     out = Path(args.out) / f"{scenario.name}_{args.rpm:g}rpm_{args.cell_mm:g}mm_band{args.band:g}{tag}"
-    st = run_mpm_steady(scenario, settings, args.rpm, out,
-                        lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True))
+    st = run_mpm_steady(
+        scenario,
+        settings,
+        args.rpm,
+        out,
+        lambda d: print(json.dumps({k: round(v, 4) for k, v in d.items()}), flush=True),
+    )
     write_result(out, st)
     print(json.dumps({k: round(v, 5) for k, v in st.summary().items()}))
 
@@ -133,7 +138,9 @@ def plate(args: argparse.Namespace) -> None:
     res = {"band_cells": args.band, "K_N_per_m": K, "lambda": lam, "K_slowest_N_per_m": K_slow, "points": pts,
            "cell_mm": args.cell_mm}  # fmt: skip
     (out / f"plate_drag_{tag}.json").write_text(json.dumps(res, indent=1))
-    print(f"band {args.band:g}: K = {K:.0f} N/m, lambda = {lam:.2f}, K from the slowest runs = {K_slow:.0f} N/m (paper 580, 1.1)")
+    print(
+        f"band {args.band:g}: K = {K:.0f} N/m, lambda = {lam:.2f}, K from the slowest runs = {K_slow:.0f} N/m (paper 580, 1.1)"
+    )
 
 
 def window_row(run_dir: Path, t_cut: float) -> dict[str, float | str] | None:
@@ -177,11 +184,20 @@ def sweep(args: argparse.Namespace) -> None:
                 best[w] = r
     if not best:
         raise SystemExit(f"{args.table}: no {args.wheel}-wheel row with band {args.band:g}")
+
     def record(w: float, r: dict) -> dict:
         steady = r["drift"] <= args.max_drift
-        return {"omega_rpm": w, "ok": steady, "velocity": r["velocity"], "sinkage": r["sinkage"], "slip": r["slip"],
-                "drift": r["drift"], "surface_drop": r["surface_drop_run"], "cell_mm": r["cell_mm"],
-                "error": "" if steady else f"not steady: v drifts by {r['drift']:.2f} over the window"}
+        return {
+            "omega_rpm": w,
+            "ok": steady,
+            "velocity": r["velocity"],
+            "sinkage": r["sinkage"],
+            "slip": r["slip"],
+            "drift": r["drift"],
+            "surface_drop": r["surface_drop_run"],
+            "cell_mm": r["cell_mm"],
+            "error": "" if steady else f"not steady: v drifts by {r['drift']:.2f} over the window",
+        }
 
     records = [record(w, r) for w, r in sorted(best.items())]
     name = "small_grousered_wheel" if args.wheel == "small" else "grousered_wheel"
@@ -199,7 +215,9 @@ def table(args: argparse.Namespace) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows = [r for d in args.folders for p in sorted(Path(d).iterdir()) if p.is_dir() and (r := window_row(p, args.t_cut))]
+    rows = [
+        r for d in args.folders for p in sorted(Path(d).iterdir()) if p.is_dir() and (r := window_row(p, args.t_cut))
+    ]
     if args.merge:
         new = {_key(r) for r in rows}
         rows += [r for r in read_table(args.merge) if _key(r) not in new]
@@ -209,8 +227,10 @@ def table(args: argparse.Namespace) -> None:
     print("| wheel | RPM | cells (mm) | band (cells) | v (m/s) | sinkage (mm) | slip | v drift | dh (mm, run window) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in shown:
-        print(f"| {r['wheel']} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
-              f"{r['slip']:.3f} | {r['drift']:.2f} | {r['surface_drop_run'] * 1e3:.1f} |")
+        print(
+            f"| {r['wheel']} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['band_cells']:g} | {r['velocity']:.4f} | {r['sinkage'] * 1e3:.1f} | "
+            f"{r['slip']:.3f} | {r['drift']:.2f} | {r['surface_drop_run'] * 1e3:.1f} |"
+        )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     with (out / "wheel_resolution.csv").open("w", newline="") as f:
@@ -221,8 +241,14 @@ def table(args: argparse.Namespace) -> None:
     colors = plt.cm.viridis(np.linspace(0, 0.9, len(with_rpm)))
     for rpm, color in zip(with_rpm, colors):
         for cell, marker, fill in ((5.0, "o", color), (2.5, "s", "none")):
-            sel = sorted((r for r in shown if r["wheel"] == "large" and r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6),
-                         key=lambda r: r["band_cells"])
+            sel = sorted(
+                (
+                    r
+                    for r in shown
+                    if r["wheel"] == "large" and r["omega_rpm"] == rpm and abs(r["cell_mm"] - cell) < 1e-6
+                ),
+                key=lambda r: r["band_cells"],
+            )
             if not sel:
                 continue
             b = [r["band_cells"] * r["cell_mm"] for r in sel]  # physical band width, mm
@@ -247,47 +273,120 @@ r.add_argument("--band", type=float, default=1.0, help="contact band, cells")
 r.add_argument("--t-max", type=float, default=2.0)
 r.add_argument("--threads", type=int, default=1)
 r.add_argument("--small", action="store_true", help="the half-size wheel of Fig S1")
-r.add_argument("--domain", type=float, nargs=2, metavar=("LX", "LZ"), default=None,
-               help="domain length and height, m (default: the paper's 1 m x 1 m); the bed depth is --bed-depth")
-r.add_argument("--bed-depth", type=float, default=None, metavar="M",
-               help="undisturbed bed height, m (default: the scenario's, 0.3 m for the wheels)")
-r.add_argument("--start-depth-mm", type=float, default=0.0, metavar="MM",
-               help="start with the wheel's lowest point MM below the surface, embedded (default: resting on it)")
-r.add_argument("--lug-count", type=int, default=None, metavar="N",
-               help="N grousers instead of Table S1's (same size, hub and inertias): a new wheel for DRFT to predict")
-r.add_argument("--mass-z", type=float, default=None, metavar="KG",
-               help="vertical mass of the wheel, kg (its weight m_z g; default: the scenario's, 6.3 kg for Table S1)")
-r.add_argument("--push", type=float, default=None, metavar="N",
-               help="constant forward push on the wheel, N (default: Table S1's 4 N scaled by m_x; < 0 pulls back)")
-r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
-               help="nonlocal granular fluidity with grains of diameter D, m, in place of the paper's law (docs/mpm.md)")
-r.add_argument("--treadmill", type=float, nargs=2, metavar=("X_TRIGGER", "X_TARGET"), default=None,
-               help="moving window: each time the wheel centre passes X_TRIGGER (m), the scene moves back to put it at "
-                    "X_TARGET, the rut leaving on the left and fresh bed coming in on the right; the run lasts --t-max")
-r.add_argument("--start-x", type=float, default=None, metavar="M", help="initial x of the wheel centre, m (default 0.16)")
-r.add_argument("--youngs-modulus", type=float, default=None, metavar="PA",
-               help="the bed's numerical Young's modulus, Pa (default 1e6; sets dt = C h sqrt(rho_c / E))")
+r.add_argument(
+    "--domain",
+    type=float,
+    nargs=2,
+    metavar=("LX", "LZ"),
+    default=None,
+    help="domain length and height, m (default: the paper's 1 m x 1 m); the bed depth is --bed-depth",
+)
+r.add_argument(
+    "--bed-depth",
+    type=float,
+    default=None,
+    metavar="M",
+    help="undisturbed bed height, m (default: the scenario's, 0.3 m for the wheels)",
+)
+r.add_argument(
+    "--start-depth-mm",
+    type=float,
+    default=0.0,
+    metavar="MM",
+    help="start with the wheel's lowest point MM below the surface, embedded (default: resting on it)",
+)
+r.add_argument(
+    "--lug-count",
+    type=int,
+    default=None,
+    metavar="N",
+    help="N grousers instead of Table S1's (same size, hub and inertias): a new wheel for DRFT to predict",
+)
+r.add_argument(
+    "--mass-z",
+    type=float,
+    default=None,
+    metavar="KG",
+    help="vertical mass of the wheel, kg (its weight m_z g; default: the scenario's, 6.3 kg for Table S1)",
+)
+r.add_argument(
+    "--push",
+    type=float,
+    default=None,
+    metavar="N",
+    help="constant forward push on the wheel, N (default: Table S1's 4 N scaled by m_x; < 0 pulls back)",
+)
+r.add_argument(
+    "--fluidity-diameter",
+    type=float,
+    default=None,
+    metavar="D",
+    help="nonlocal granular fluidity with grains of diameter D, m, in place of the paper's law (docs/mpm.md)",
+)
+r.add_argument(
+    "--treadmill",
+    type=float,
+    nargs=2,
+    metavar=("X_TRIGGER", "X_TARGET"),
+    default=None,
+    help="moving window: each time the wheel centre passes X_TRIGGER (m), the scene moves back to put it at "
+    "X_TARGET, the rut leaving on the left and fresh bed coming in on the right; the run lasts --t-max",
+)
+r.add_argument(
+    "--start-x", type=float, default=None, metavar="M", help="initial x of the wheel centre, m (default 0.16)"
+)
+r.add_argument(
+    "--youngs-modulus",
+    type=float,
+    default=None,
+    metavar="PA",
+    help="the bed's numerical Young's modulus, Pa (default 1e6; sets dt = C h sqrt(rho_c / E))",
+)
 r.add_argument("--ramp-time", type=float, default=None, metavar="S", help="linear spin-up of omega, s (default 0.15)")
-r.add_argument("--chunk", type=float, default=None, metavar="S",
-               help="run-control interval, s: progress lines, treadmill checks, snapshots (default 0.05)")
+r.add_argument(
+    "--chunk",
+    type=float,
+    default=None,
+    metavar="S",
+    help="run-control interval, s: progress lines, treadmill checks, snapshots (default 0.05)",
+)
 r.add_argument("--cfl", type=float, default=None, metavar="C", help="C of dt = C h sqrt(rho_c / E) (default 0.3)")
-r.add_argument("--flip", type=float, default=None, metavar="S",
-               help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC; docs/mpm.md)")
-r.add_argument("--shape", choices=SHAPES, default=None,
-               help="shape functions of the transfers (default quadratic; linear: the cell's bilinear functions, "
-                    "as the paper's group's mpm-2d, with --flip 1)")
+r.add_argument(
+    "--flip",
+    type=float,
+    default=None,
+    metavar="S",
+    help="FLIP's share of the points' velocity update, 0-1 (default 0: APIC; docs/mpm.md)",
+)
+r.add_argument(
+    "--shape",
+    choices=SHAPES,
+    default=None,
+    help="shape functions of the transfers (default quadratic; linear: the cell's bilinear functions, "
+    "as the paper's group's mpm-2d, with --flip 1)",
+)
 r.add_argument("--out", default="runs/resolution")
 t = sub.add_parser("table", help="tabulate finished runs")
 t.add_argument("folders", nargs="+")
 t.add_argument("--t-cut", type=float, default=2.0)
-t.add_argument("--rpm", type=float, nargs="+", default=None, help="omegas printed and plotted (default: all); the CSV keeps every row")
+t.add_argument(
+    "--rpm",
+    type=float,
+    nargs="+",
+    default=None,
+    help="omegas printed and plotted (default: all); the CSV keeps every row",
+)
 t.add_argument("--out", default="docs/figures")
 t.add_argument("--merge", help="an earlier table CSV whose rows are kept unless a run folder replaces them")
 w = sub.add_parser("sweep", help="an MPM sweep CSV (for intrusim calibrate) from a table CSV")
 w.add_argument("--table", default="docs/figures/wheel_resolution.csv")
 w.add_argument("--band", type=float, default=0.0, help="contact band, cells")
-w.add_argument("--wheel", choices=("large", "small"), default="large", help="the Table S1 wheel or the half-size one of Fig S1")
-w.add_argument("--max-drift", type=float, default=0.3, help="rows whose v drifts more over the window are marked not ok")
+w.add_argument(
+    "--wheel", choices=("large", "small"), default="large", help="the Table S1 wheel or the half-size one of Fig S1"
+)
+w.add_argument(
+    "--max-drift", type=float, default=0.3, help="rows whose v drifts more over the window are marked not ok"
+)
 w.add_argument("--out", required=True)
 p = sub.add_parser("plate", help="the Fig 6 plate-drag fit (2.5 mm cells) with a given band")
 p.add_argument("--band", type=float, default=1.0, help="contact band, cells")

@@ -80,8 +80,9 @@ def fixed_state_config(args: argparse.Namespace, out: Path) -> MPMConfig:
     if args.mu_i_diameter is not None:
         payload["material"]["mu_i"] = MuIConfig(grain_diameter=args.mu_i_diameter).model_dump()
     if args.fluidity_diameter is not None:
-        payload["material"]["fluidity"] = FluidityConfig(grain_diameter=args.fluidity_diameter,
-                                                         sweep_pairs=args.fluidity_sweep_pairs).model_dump()
+        payload["material"]["fluidity"] = FluidityConfig(
+            grain_diameter=args.fluidity_diameter, sweep_pairs=args.fluidity_sweep_pairs
+        ).model_dump()
     body["z"] = args.z
     body["motion"] = PrescribedMotion(
         vx=args.vx, omega=-args.rpm * 2 * math.pi / 60, ramp_time=settings.ramp_time).model_dump()  # fmt: skip
@@ -95,7 +96,11 @@ def run(args: argparse.Namespace) -> None:
     tag += f"_eta{args.viscosity:g}" if args.viscosity > 0.0 else ""
     tag += f"_muI{1e3 * args.mu_i_diameter:g}mm" if args.mu_i_diameter is not None else ""
     tag += f"_ngf{1e3 * args.fluidity_diameter:g}mm" if args.fluidity_diameter is not None else ""
-    tag += f"_sweeps{args.fluidity_sweep_pairs}" if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != DEFAULT_SWEEP_PAIRS else ""
+    tag += (
+        f"_sweeps{args.fluidity_sweep_pairs}"
+        if args.fluidity_diameter is not None and args.fluidity_sweep_pairs != DEFAULT_SWEEP_PAIRS
+        else ""
+    )
     tag += f"_cfl{args.cfl:g}" if args.cfl != DEFAULT_CFL else ""
     out = Path(args.out) / tag
     cfg = fixed_state_config(args, out)
@@ -121,8 +126,9 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {out} in {meta['wall_s']:.0f} s")
 
 
-def held_from_free(free: Path, rpm: float, vx_scale: float, window: float, duration: float,
-                   out_root: Path, threads: int | None = None) -> tuple[Solver, dict, Path, dict, tuple]:
+def held_from_free(
+    free: Path, rpm: float, vx_scale: float, window: float, duration: float, out_root: Path, threads: int | None = None
+) -> tuple[Solver, dict, Path, dict, tuple]:
     """The solver of a wheel held from ``free``'s last checkpoint (not yet restored), its META, its
     folder, the free run's locomotion.json and its checkpoint as read (arrays, meta).
 
@@ -186,15 +192,28 @@ def switch(args: argparse.Namespace) -> None:
         return
     (out / META).write_text(json.dumps(info, indent=1))
     treadmill = info["treadmill"]
-    treadmill_shift(solver, body, treadmill)  # resumed at a chunk's end from the checkpoint written before that chunk's shift
+    treadmill_shift(
+        solver, body, treadmill
+    )  # resumed at a chunk's end from the checkpoint written before that chunk's shift
     start = time.perf_counter()
     t_next = info["t_switch"] + chunk * math.floor((solver.t - info["t_switch"]) / chunk + 0.5)
     while solver.t < t_end - 0.5 * solver.dt:
         t_next = min(t_next + chunk, t_end)
         solver.run(t_end=t_next, checkpoint_end=False)
         r = solver.rows[-1]
-        print(json.dumps({"t": round(solver.t, 4), "x": round(body.state.x + solver.x_offset, 4), "z": round(body.state.z, 5),
-                          "fx": round(r["fx"], 3), "fz": round(r["fz"], 3), "wall": round(time.perf_counter() - start, 1)}), flush=True)
+        print(
+            json.dumps(
+                {
+                    "t": round(solver.t, 4),
+                    "x": round(body.state.x + solver.x_offset, 4),
+                    "z": round(body.state.z, 5),
+                    "fx": round(r["fx"], 3),
+                    "fz": round(r["fz"], 3),
+                    "wall": round(time.perf_counter() - start, 1),
+                }
+            ),
+            flush=True,
+        )
         treadmill_shift(solver, body, treadmill)
     solver.checkpoint_run_folder()
     info["wall_s"] = time.perf_counter() - start  # this invocation only (a resumed run: since the resume)
@@ -263,11 +282,15 @@ def table(args: argparse.Namespace) -> None:
             w.writeheader()
             w.writerows(windows)
         print(f"wrote {path}: {len(windows)} windows of {args.after_switch:g} s after the switch")
-    print("| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |")
+    print(
+        "| wheel | z (mm) | vx (m/s) | RPM | cells (mm) | fx (N) | fz (N) | moment (N m) | fx ahead | fz ahead | t end (s) |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {'smooth rim' if r.get('smooth') else 'grousered'} | {1e3 * r['z']:.1f} | {r['vx']:.4f} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['fx']:+.2f} | "
-              f"{r['fz']:.2f} | {r['moment']:+.3f} | {r['fx_ahead']:+.2f} | {r['fz_ahead']:.2f} | {r['t_end']:.2f} |")
+        print(
+            f"| {'smooth rim' if r.get('smooth') else 'grousered'} | {1e3 * r['z']:.1f} | {r['vx']:.4f} | {r['omega_rpm']:g} | {r['cell_mm']:g} | {r['fx']:+.2f} | "
+            f"{r['fz']:.2f} | {r['moment']:+.3f} | {r['fx_ahead']:+.2f} | {r['fz_ahead']:.2f} | {r['t_end']:.2f} |"
+        )
 
     fig, axes = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
     styles = {}
@@ -311,22 +334,57 @@ def main() -> None:
     r.add_argument("--start-x", type=float, default=0.15)
     r.add_argument("--threads", type=int, default=2)
     r.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
-    r.add_argument("--lug-width", type=float, default=None, metavar="W",
-                   help="m, grouser thickness (default: Table S1's; a check of the grousers' resolution)")
-    r.add_argument("--snapshot-every", type=float, default=None, metavar="S",
-                   help="s: particle snapshots (VTK + PNG, for research/shear_layer.py)")
-    r.add_argument("--viscosity", type=float, default=0.0, metavar="ETA",
-                   help="Pa s: viscous overstress at yield (MaterialConfig.viscosity; a diagnostic, not the paper's law)")
-    r.add_argument("--mu-i-diameter", type=float, default=None, metavar="D",
-                   help="m: inertial-number friction mu(I) with grains of diameter D (MaterialConfig.mu_i, other "
-                        "parameters at their defaults; not the paper's law)")
-    r.add_argument("--fluidity-diameter", type=float, default=None, metavar="D",
-                   help="m: nonlocal granular fluidity with grains of diameter D (MaterialConfig.fluidity, other "
-                        "parameters at their defaults; not the paper's law)")
-    r.add_argument("--fluidity-sweep-pairs", type=int, default=DEFAULT_SWEEP_PAIRS, metavar="N",
-                   help="pairs of Jacobi sweeps of the fluidity per step (FluidityConfig.sweep_pairs)")
-    r.add_argument("--cfl", type=float, default=DEFAULT_CFL, metavar="C",
-                   help="time step dt = C h sqrt(rho_c / E) (MPMSettings.cfl; smaller: a check of the time step)")
+    r.add_argument(
+        "--lug-width",
+        type=float,
+        default=None,
+        metavar="W",
+        help="m, grouser thickness (default: Table S1's; a check of the grousers' resolution)",
+    )
+    r.add_argument(
+        "--snapshot-every",
+        type=float,
+        default=None,
+        metavar="S",
+        help="s: particle snapshots (VTK + PNG, for research/shear_layer.py)",
+    )
+    r.add_argument(
+        "--viscosity",
+        type=float,
+        default=0.0,
+        metavar="ETA",
+        help="Pa s: viscous overstress at yield (MaterialConfig.viscosity; a diagnostic, not the paper's law)",
+    )
+    r.add_argument(
+        "--mu-i-diameter",
+        type=float,
+        default=None,
+        metavar="D",
+        help="m: inertial-number friction mu(I) with grains of diameter D (MaterialConfig.mu_i, other "
+        "parameters at their defaults; not the paper's law)",
+    )
+    r.add_argument(
+        "--fluidity-diameter",
+        type=float,
+        default=None,
+        metavar="D",
+        help="m: nonlocal granular fluidity with grains of diameter D (MaterialConfig.fluidity, other "
+        "parameters at their defaults; not the paper's law)",
+    )
+    r.add_argument(
+        "--fluidity-sweep-pairs",
+        type=int,
+        default=DEFAULT_SWEEP_PAIRS,
+        metavar="N",
+        help="pairs of Jacobi sweeps of the fluidity per step (FluidityConfig.sweep_pairs)",
+    )
+    r.add_argument(
+        "--cfl",
+        type=float,
+        default=DEFAULT_CFL,
+        metavar="C",
+        help="time step dt = C h sqrt(rho_c / E) (MPMSettings.cfl; smaller: a check of the time step)",
+    )
     r.add_argument("--out", default="runs/fixed")
     s = sub.add_parser("switch", help="a free run's wheel held from its last checkpoint, at its own or another omega")
     s.add_argument("free_run", help="run folder of a free (coupled) wheel, with its checkpoint")
@@ -339,8 +397,13 @@ def main() -> None:
     t = sub.add_parser("table", help="window means of finished runs, CSV and figure")
     t.add_argument("folders", nargs="+")
     t.add_argument("--window", type=float, default=0.5, help="s, averaged at the end of each run")
-    t.add_argument("--after-switch", type=float, default=None, metavar="S",
-                   help="also write OUT_after_switch.csv: means over consecutive S-second windows from the switch")
+    t.add_argument(
+        "--after-switch",
+        type=float,
+        default=None,
+        metavar="S",
+        help="also write OUT_after_switch.csv: means over consecutive S-second windows from the switch",
+    )
     t.add_argument("--out", default="docs/figures/wheel_fixed_state")
     args = ap.parse_args()
     {"run": run, "switch": switch, "table": table}[args.cmd](args)

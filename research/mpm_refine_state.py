@@ -81,7 +81,9 @@ def main() -> None:
     def progress(s: Solver) -> None:
         r = s.rows[-1]
         if s.step_count % max(1, int(round(0.05 / s.dt))) < max(1, int(round(0.01 / s.dt))):
-            print(f"t {r['time']:.2f} s  x {r['x']:.4f}  z {r['z']:.4f}  vx {r['vx']:.4f}  fz {r['fz']:.1f} N", flush=True)
+            print(
+                f"t {r['time']:.2f} s  x {r['x']:.4f}  z {r['z']:.4f}  vx {r['vx']:.4f}  fz {r['fz']:.1f} N", flush=True
+            )
 
     solver.run(progress=progress)
     st = summarise_run(out, t_start=t0 + 0.5 * args.t_more)

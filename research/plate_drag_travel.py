@@ -43,8 +43,14 @@ def window_means(x: np.ndarray, force: np.ndarray, edges: np.ndarray) -> np.ndar
     return out
 
 
-def excess_lambda(f_fast: np.ndarray, f_slow: np.ndarray, v_fast: float, v_slow: float,
-                  rho: float = PLATE_RHO, area: float = PLATE_LENGTH) -> np.ndarray:
+def excess_lambda(
+    f_fast: np.ndarray,
+    f_slow: np.ndarray,
+    v_fast: float,
+    v_slow: float,
+    rho: float = PLATE_RHO,
+    area: float = PLATE_LENGTH,
+) -> np.ndarray:
     """lambda of the drag excess of a faster run over the slowest: dF / (rho A (v^2 - v_slow^2))."""
     if not v_fast > v_slow > 0:
         raise ValueError(f"need v_fast > v_slow > 0, got {v_fast} and {v_slow}")
@@ -53,8 +59,11 @@ def excess_lambda(f_fast: np.ndarray, f_slow: np.ndarray, v_fast: float, v_slow:
 
 def _step_tag(args: argparse.Namespace) -> str:
     """The time step's and the transfer's part of a file name (empty for the defaults)."""
-    return (("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}") + ("" if args.flip == 0 else f"_flip{args.flip:g}")
-            + ("" if args.shape == "quadratic" else f"_{args.shape}"))
+    return (
+        ("" if args.cfl == 0.3 else f"_cfl{args.cfl:g}")
+        + ("" if args.flip == 0 else f"_flip{args.flip:g}")
+        + ("" if args.shape == "quadratic" else f"_{args.shape}")
+    )
 
 
 def run_one(speed: float, args: argparse.Namespace) -> dict:
@@ -64,8 +73,10 @@ def run_one(speed: float, args: argparse.Namespace) -> dict:
     from intrusim.mpm.solver import Solver
 
     h = args.cell_mm * 1e-3
-    tag = (f"d{args.depth_mm:g}mm_v{speed:g}_travel{args.travel:g}m_band{args.band:g}_E{args.youngs_modulus:g}"
-           f"_h{args.cell_mm:g}mm{_step_tag(args)}")
+    tag = (
+        f"d{args.depth_mm:g}mm_v{speed:g}_travel{args.travel:g}m_band{args.band:g}_E{args.youngs_modulus:g}"
+        f"_h{args.cell_mm:g}mm{_step_tag(args)}"
+    )
 
     def run() -> dict:
         domain = (0.45, 0.15)
@@ -82,17 +93,27 @@ def run_one(speed: float, args: argparse.Namespace) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--speeds", type=float, nargs="+", default=[0.04, 0.16, 0.32, 0.64], help="m/s; the first is the slow reference")
+    ap.add_argument(
+        "--speeds", type=float, nargs="+", default=[0.04, 0.16, 0.32, 0.64], help="m/s; the first is the slow reference"
+    )
     ap.add_argument("--depth-mm", type=float, default=30.0, help="plate centre depth, mm (Fig 6: 20, 30, 40)")
     ap.add_argument("--travel", type=float, default=0.16, help="distance dragged, m (Fig 6 runs: 0.04)")
-    ap.add_argument("--windows", type=float, nargs="+", default=[0.02, 0.04, 0.08, 0.12, 0.16], help="travel window edges, m")
+    ap.add_argument(
+        "--windows", type=float, nargs="+", default=[0.02, 0.04, 0.08, 0.12, 0.16], help="travel window edges, m"
+    )
     ap.add_argument("--band", type=float, default=1.0, help="contact band, cells")
     ap.add_argument("--cell-mm", type=float, default=2.5)
     ap.add_argument("--youngs-modulus", type=float, default=1.0e6, help="Pa")
     ap.add_argument("--cfl", type=float, default=0.3, help="C in dt = C h sqrt(rho / E) (default 0.3, as every run)")
-    ap.add_argument("--flip", type=float, default=0.0, help="FLIP's share of the velocity update, 0-1 (default 0: APIC)")
-    ap.add_argument("--shape", choices=SHAPES, default="quadratic",
-                    help="shape functions of the transfers (default quadratic; linear: mpm-2d's, with --flip 1)")
+    ap.add_argument(
+        "--flip", type=float, default=0.0, help="FLIP's share of the velocity update, 0-1 (default 0: APIC)"
+    )
+    ap.add_argument(
+        "--shape",
+        choices=SHAPES,
+        default="quadratic",
+        help="shape functions of the transfers (default quadratic; linear: mpm-2d's, with --flip 1)",
+    )
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default="runs/plate-travel")
     args = ap.parse_args()
@@ -102,10 +123,19 @@ def main() -> None:
         ap.error("--speeds: at least two different positive speeds")
     if len(edges) < 2 or np.any(np.diff(edges) <= 0) or edges[0] < 0 or edges[-1] > args.travel:
         ap.error("--windows: rising edges within [0, --travel]")
-    if not (0 < args.depth_mm and args.cell_mm > 0 and args.band >= 0 and args.youngs_modulus > 0 and args.threads >= 1
-            and 0 < args.cfl <= 1 and 0 <= args.flip <= 1):
-        ap.error("--depth-mm, --cell-mm and --youngs-modulus must be positive, --band >= 0, --threads >= 1, "
-                 "0 < --cfl <= 1, 0 <= --flip <= 1")
+    if not (
+        0 < args.depth_mm
+        and args.cell_mm > 0
+        and args.band >= 0
+        and args.youngs_modulus > 0
+        and args.threads >= 1
+        and 0 < args.cfl <= 1
+        and 0 <= args.flip <= 1
+    ):
+        ap.error(
+            "--depth-mm, --cell-mm and --youngs-modulus must be positive, --band >= 0, --threads >= 1, "
+            "0 < --cfl <= 1, 0 <= --flip <= 1"
+        )
 
     means = {v: window_means(np.array(d["travel"]), np.array(d["drag"]), edges)
              for v, d in ((v, run_one(v, args)) for v in speeds)}  # fmt: skip
@@ -139,7 +169,10 @@ def main() -> None:
     for v in speeds:
         ax.plot(mid * 1e3, means[v], "o-", label=f"v = {v:g} m/s")
     ax.set(xlabel="travel (mm, window centre)", ylabel="drag per metre (N/m)")
-    ax.set_title(f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa, C {args.cfl:g}, FLIP {args.flip:g}, {args.shape}", fontsize=8)
+    ax.set_title(
+        f"16 mm plate at {args.depth_mm:g} mm, band {args.band:g}, E {args.youngs_modulus:g} Pa, C {args.cfl:g}, FLIP {args.flip:g}, {args.shape}",
+        fontsize=8,
+    )
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(png_path, dpi=130)

@@ -70,8 +70,12 @@ def main() -> None:
     ap.add_argument("--raise-mm", default="0", help="comma-separated raises of the free surface, mm (default 0)")
     ap.add_argument("--parts", action="store_true", help="also split each force by part and half")
     ap.add_argument("--smooth", action="store_true", help="the wheel's outer radius without grousers")
-    ap.add_argument("--lug-scale", type=float, default=None,
-                    help="RFT grouser height / true height (default: the scenario's 1/3, the paper's shadowing)")
+    ap.add_argument(
+        "--lug-scale",
+        type=float,
+        default=None,
+        help="RFT grouser height / true height (default: the scenario's 1/3, the paper's shadowing)",
+    )
     ap.add_argument("--out", type=Path, help="also write the table to this CSV")
     args = ap.parse_args()
     if args.rpm <= 0:
@@ -112,7 +116,9 @@ def main() -> None:
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with args.out.open("w", newline="") as f:
-            w_ = csv.DictWriter(f, fieldnames=["body", "z", "vx", "rpm", "lug_scale", "raise_mm", "model", "part", "fx", "fz", "moment"])
+            w_ = csv.DictWriter(
+                f, fieldnames=["body", "z", "vx", "rpm", "lug_scale", "raise_mm", "model", "part", "fx", "fz", "moment"]
+            )
             w_.writeheader()
             w_.writerows({"body": sc.name, "z": args.z, "vx": args.vx, "rpm": args.rpm, "lug_scale": sc.lug_height_scale, **r}
                          for r in rows)  # fmt: skip

@@ -44,11 +44,20 @@ def main() -> None:
     ap.add_argument("runs", nargs="+", type=Path, help="finished run folders (timeseries.csv, config.json)")
     ap.add_argument("--label", action="append", default=None, help="a legend label per run, in order")
     ap.add_argument("--every", type=float, default=0.125, help="window length, s")
-    ap.add_argument("--steady-from", type=float, action="append", default=None, metavar="T",
-                    help="per run, in order: also write OUT_steady.csv with the run's steady state from T s on "
-                         "(v, sinkage, slip, rear surface drop; summarise_run)")
-    ap.add_argument("--whole-only", action="store_true",
-                    help="only windows the run covers whole (default: the last one may be partial, with a warning)")
+    ap.add_argument(
+        "--steady-from",
+        type=float,
+        action="append",
+        default=None,
+        metavar="T",
+        help="per run, in order: also write OUT_steady.csv with the run's steady state from T s on "
+        "(v, sinkage, slip, rear surface drop; summarise_run)",
+    )
+    ap.add_argument(
+        "--whole-only",
+        action="store_true",
+        help="only windows the run covers whole (default: the last one may be partial, with a warning)",
+    )
     ap.add_argument("--title", default="")
     ap.add_argument("--out", required=True, help="output stem: OUT.csv and OUT.png")
     args = ap.parse_args()
@@ -87,7 +96,17 @@ def main() -> None:
 
 def write_steady(path: Path, runs: list[Path], labels: list[str], starts: list[float]) -> None:
     """One row per run: its steady state over [start, end] (m/s, m; rear drop from progress.json)."""
-    keys = ("window_start", "window_end", "omega", "velocity", "sinkage", "slip", "surface_drop", "surface_drop_std", "drift")
+    keys = (
+        "window_start",
+        "window_end",
+        "omega",
+        "velocity",
+        "sinkage",
+        "slip",
+        "surface_drop",
+        "surface_drop_std",
+        "drift",
+    )
     with path.open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=["run", "label", *keys])
         w.writeheader()

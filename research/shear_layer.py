@@ -66,7 +66,9 @@ from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import MPMSettings
 
 META = "fixed_state.json"
-LUG_WIDTH = grousered_wheel_scenario().lug_width  # m, Table S1's grouser thickness (named in a series only when not this)
+LUG_WIDTH = (
+    grousered_wheel_scenario().lug_width
+)  # m, Table S1's grouser thickness (named in a series only when not this)
 RIM_RADIUS = grousered_wheel_scenario().radius  # m, the Table S1 wheel's outer radius (the smooth rim of --smooth)
 DEPTH_RANGE = (-0.004, 0.06)  # m below the rim's lowest point
 FIELD_BOX = (0.05, 0.2, -0.17)  # m: points within 0.2 of 0.05 ahead of the centre, above 0.17 below it
@@ -151,7 +153,9 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
         last = {"x": x[near] - xc, "z": z[near] - zc, "gdot": gd}
         used.append(t)
     if not used:
-        raise OutsideWindow(f"{run_dir}: no snapshot in the window {window} s (still running, or run without --snapshot-every)")
+        raise OutsideWindow(
+            f"{run_dir}: no snapshot in the window {window} s (still running, or run without --snapshot-every)"
+        )
     with np.errstate(invalid="ignore", divide="ignore"):
         drag, gdot = sum_u / count, sum_g / count
     centre = 0.5 * (edges[1:] + edges[:-1])
@@ -163,21 +167,42 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     smooth = bool(meta.get("smooth", False))
     xi = cooperativity_length(run_dir, material, ts, h)
     return {
-        "series": series_name(smooth, meta["domain"], material.get("viscosity", 0.0), material.get("mu_i"), material.get("fluidity"),
-                              meta.get("cfl", DEFAULT_CFL), meta.get("lug_width", LUG_WIDTH)),
-        "cell_mm": float(meta["cell_mm"]), "smooth": smooth,
-        "box_x": float(meta["domain"][0]), "box_z": float(meta["domain"][1]), "viscosity": float(material.get("viscosity", 0.0)),
-        "z": meta["z"], "vx_wheel": meta["vx"], "omega_rpm": meta["omega_rpm"],
-        "snapshots": len(used), "t_first": min(used), "t_last": max(used),
-        "rim_speed": rim_speed, "grain_speed_max": float(np.max(drag)), "grain_over_rim": float(np.max(drag)) / rim_speed,
-        "width_90_10_mm": 1e3 * w90_10, "width_90_10_cells": w90_10 / h,
-        "width_75_25_mm": 1e3 * w75_25, "width_75_25_cells": w75_25 / h, "gdot_peak": float(np.max(gdot)),
+        "series": series_name(
+            smooth,
+            meta["domain"],
+            material.get("viscosity", 0.0),
+            material.get("mu_i"),
+            material.get("fluidity"),
+            meta.get("cfl", DEFAULT_CFL),
+            meta.get("lug_width", LUG_WIDTH),
+        ),
+        "cell_mm": float(meta["cell_mm"]),
+        "smooth": smooth,
+        "box_x": float(meta["domain"][0]),
+        "box_z": float(meta["domain"][1]),
+        "viscosity": float(material.get("viscosity", 0.0)),
+        "z": meta["z"],
+        "vx_wheel": meta["vx"],
+        "omega_rpm": meta["omega_rpm"],
+        "snapshots": len(used),
+        "t_first": min(used),
+        "t_last": max(used),
+        "rim_speed": rim_speed,
+        "grain_speed_max": float(np.max(drag)),
+        "grain_over_rim": float(np.max(drag)) / rim_speed,
+        "width_90_10_mm": 1e3 * w90_10,
+        "width_90_10_cells": w90_10 / h,
+        "width_75_25_mm": 1e3 * w75_25,
+        "width_75_25_cells": w75_25 / h,
+        "gdot_peak": float(np.max(gdot)),
         **interval_means(ts["time"], {c: ts[c] for c in ("fx", "fz", "moment")}, *window),
         **{f"area_gdot_above_{g:g}_cm2": 1e4 * a for g, a in zip(FLOW_RATES, np.mean(flowing, axis=0))},
         **{f"gdot_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(fast, axis=0))},
         **{f"inertial_p{q:g}": float(v) for q, v in zip(PERCENTILES, np.mean(numbers, axis=0))},
-        "xi_fast_median_mm": 1e3 * xi, "xi_fast_median_cells": xi / h,
-        "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count}, "field": last,
+        "xi_fast_median_mm": 1e3 * xi,
+        "xi_fast_median_cells": xi / h,
+        "profile": {"depth": centre, "drag": drag, "gdot": gdot, "count": count},
+        "field": last,
     }
 
 
@@ -198,11 +223,22 @@ def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float
     near = (np.abs(x[:, 0] - xc - FIELD_BOX[0]) < FIELD_BOX[1]) & (x[:, 1] > zc + FIELD_BOX[2])
     fast = near & (gd > FLOW_RATES[1]) & (pressure > 0.0)
     dmu = np.abs(tau[fast] / pressure[fast] - material["mu_s"])
-    return float(np.median(fluidity["amplitude"] * fluidity["grain_diameter"] / np.sqrt(dmu))) if fast.any() else float("nan")
+    return (
+        float(np.median(fluidity["amplitude"] * fluidity["grain_diameter"] / np.sqrt(dmu)))
+        if fast.any()
+        else float("nan")
+    )
 
 
-def series_name(smooth: bool, domain, viscosity: float = 0.0, mu_i: dict | None = None,
-                fluidity: dict | None = None, cfl: float = DEFAULT_CFL, lug_width: float | None = None) -> str:
+def series_name(
+    smooth: bool,
+    domain,
+    viscosity: float = 0.0,
+    mu_i: dict | None = None,
+    fluidity: dict | None = None,
+    cfl: float = DEFAULT_CFL,
+    lug_width: float | None = None,
+) -> str:
     """'grousered' (with the grouser thickness when not Table S1's) or 'smooth rim', with the box
     when it is not the default 0.7 m x 0.4 m, the viscous overstress, the mu(I) law or the nonlocal
     fluidity when there is one, and the time step's CFL number when it is not the default."""
@@ -236,7 +272,9 @@ def main() -> None:
 
     run_dirs = []
     for folder in map(Path, args.folders):
-        run_dirs += [p.parent for p in ([folder / META] if (folder / META).exists() else sorted(folder.glob(f"*/{META}")))]
+        run_dirs += [
+            p.parent for p in ([folder / META] if (folder / META).exists() else sorted(folder.glob(f"*/{META}")))
+        ]
     run_dirs = [d for d in run_dirs if snapshot_steps(d) and (d / "timeseries.csv").exists()]
     if not run_dirs:
         raise SystemExit("no fixed-state run folder with snapshots found")
@@ -265,13 +303,17 @@ def main() -> None:
             for d, u, g, n in zip(p["depth"], p["drag"], p["gdot"], p["count"]):
                 w.writerow([r["series"], r["cell_mm"], f"{1e3 * d:.3f}", f"{u:.6g}", f"{g:.6g}", int(n)])
 
-    print("| wheel | cells (mm) | snapshots | area > 1/s, > 10/s (cm^2) | grains' max speed (m/s) | / rim speed | 90-10 width (mm) | (cells) | 75-25 width (mm) | "
-          "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | I 50th / 99th percentile | fx (N) | fz (N) |")
+    print(
+        "| wheel | cells (mm) | snapshots | area > 1/s, > 10/s (cm^2) | grains' max speed (m/s) | / rim speed | 90-10 width (mm) | (cells) | 75-25 width (mm) | "
+        "(cells) | gdot peak of the profile (1/s) | gdot 99th percentile (1/s) | I 50th / 99th percentile | fx (N) | fz (N) |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['grain_speed_max']:.4f} | {r['grain_over_rim']:.2f} | "
-              f"{r['width_90_10_mm']:.2f} | {r['width_90_10_cells']:.2f} | {r['width_75_25_mm']:.2f} | {r['width_75_25_cells']:.2f} | "
-              f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['inertial_p50']:.2g} / {r['inertial_p99']:.2g} | {r['fx']:+.2f} | {r['fz']:.2f} |")
+        print(
+            f"| {r['series']} | {r['cell_mm']:g} | {r['snapshots']} | {r['area_gdot_above_1_cm2']:.0f}, {r['area_gdot_above_10_cm2']:.0f} | {r['grain_speed_max']:.4f} | {r['grain_over_rim']:.2f} | "
+            f"{r['width_90_10_mm']:.2f} | {r['width_90_10_cells']:.2f} | {r['width_75_25_mm']:.2f} | {r['width_75_25_cells']:.2f} | "
+            f"{r['gdot_peak']:.1f} | {r['gdot_p99']:.1f} | {r['inertial_p50']:.2g} / {r['inertial_p99']:.2g} | {r['fx']:+.2f} | {r['fz']:.2f} |"
+        )
     fits = {}
     for series in dict.fromkeys(r["series"] for r in rows):
         sub = [r for r in rows if r["series"] == series]
@@ -285,7 +327,9 @@ def main() -> None:
                     print(f"{series}: {key} = {c:.3g} x (h / mm)^{b:.2f} over h = {h.min():g}-{h.max():g} mm")
     plot(rows, fits, out.with_suffix(".png"))
     plot_fields(rows, out.with_name(out.name + "_fields.png"))
-    print(f"wrote {out.with_suffix('.csv')}, {out.name}_profiles.csv, {out.with_suffix('.png')} and {out.name}_fields.png")
+    print(
+        f"wrote {out.with_suffix('.csv')}, {out.name}_profiles.csv, {out.with_suffix('.png')} and {out.name}_fields.png"
+    )
 
 
 def plot(rows: list[dict], fits: dict, path: Path) -> None:
@@ -319,9 +363,15 @@ def plot(rows: list[dict], fits: dict, path: Path) -> None:
     for name in series:
         sub = sorted((r for r in rows if r["series"] == name), key=lambda r: r["cell_mm"])
         h = np.array([r["cell_mm"] for r in sub])
-        for ax, key, fill in ((conv[0], "width_90_10_mm", None), (conv[0], "width_75_25_mm", "none"),
-                              (conv[1], "gdot_p99", None), (conv[2], "fz", None)):
-            ax.plot(h, [r[key] for r in sub], "o-" if fill is None else "s--", color=colour[name], mfc=fill, lw=1.0, ms=4)
+        for ax, key, fill in (
+            (conv[0], "width_90_10_mm", None),
+            (conv[0], "width_75_25_mm", "none"),
+            (conv[1], "gdot_p99", None),
+            (conv[2], "fz", None),
+        ):
+            ax.plot(
+                h, [r[key] for r in sub], "o-" if fill is None else "s--", color=colour[name], mfc=fill, lw=1.0, ms=4
+            )
     for ax in conv:
         ax.set_xscale("log")
         ax.set_xlabel("cell size h (mm)")
@@ -335,16 +385,33 @@ def plot(rows: list[dict], fits: dict, path: Path) -> None:
     conv[1].set_title("99th percentile over the points shearing > 1/s", fontsize=9)
     conv[2].set_ylabel("lift fz on the wheel (N)")
     conv[2].set_title("mean force over the window", fontsize=9)
-    handles = [Line2D([], [], color=colour[name], marker="o", lw=1.0,
-                      label=name + "".join(f"; {k[6:11].replace('_', '-') if k != 'gdot_p99' else '99th pct'} ~ h^{fits[(name, k)][0]:.2f}"
-                                           for k in FITTED if (name, k) in fits and k != "width_75_25_mm"))
-               for name in series]
-    handles += [Line2D([], [], color="k", linestyle=LINE_STYLES[i % len(LINE_STYLES)], label=f"profiles: {c:g} mm cells")
-                for i, c in enumerate(cells)]
+    handles = [
+        Line2D(
+            [],
+            [],
+            color=colour[name],
+            marker="o",
+            lw=1.0,
+            label=name
+            + "".join(
+                f"; {k[6:11].replace('_', '-') if k != 'gdot_p99' else '99th pct'} ~ h^{fits[(name, k)][0]:.2f}"
+                for k in FITTED
+                if (name, k) in fits and k != "width_75_25_mm"
+            ),
+        )
+        for name in series
+    ]
+    handles += [
+        Line2D([], [], color="k", linestyle=LINE_STYLES[i % len(LINE_STYLES)], label=f"profiles: {c:g} mm cells")
+        for i, c in enumerate(cells)
+    ]
     key_ax.legend(handles=handles, loc="center", fontsize=7, frameon=False)
     r0 = rows[0]
-    fig.suptitle(f"The sheared layer below the wheel held at a fixed state ({r0['omega_rpm']:g} RPM, centre "
-                 f"{1e3 * r0['z']:.1f} mm above the floor, v {r0['vx_wheel']:.3f} m/s)", fontsize=10)
+    fig.suptitle(
+        f"The sheared layer below the wheel held at a fixed state ({r0['omega_rpm']:g} RPM, centre "
+        f"{1e3 * r0['z']:.1f} mm above the floor, v {r0['vx_wheel']:.3f} m/s)",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -360,8 +427,13 @@ def plot_fields(rows: list[dict], path: Path) -> None:
 
     series = list(dict.fromkeys(r["series"] for r in rows))
     cells = sorted({r["cell_mm"] for r in rows}, reverse=True)
-    fig, axes = plt.subplots(len(series), len(cells), figsize=(3.6 * len(cells) + 1.0, 1.7 * len(series) + 0.3),
-                             squeeze=False, layout="constrained")
+    fig, axes = plt.subplots(
+        len(series),
+        len(cells),
+        figsize=(3.6 * len(cells) + 1.0, 1.7 * len(series) + 0.3),
+        squeeze=False,
+        layout="constrained",
+    )
     norm = LogNorm(vmin=0.1, vmax=100.0)
     for ax in axes.flat:
         ax.set_axis_off()
@@ -370,9 +442,16 @@ def plot_fields(rows: list[dict], path: Path) -> None:
         ax.set_axis_on()
         f = r["field"]
         order = np.argsort(f["gdot"])  # fastest on top
-        sc = ax.scatter(1e3 * f["x"][order], 1e3 * f["z"][order], c=np.clip(f["gdot"][order], 0.1, None),
-                        s=0.6 * (r["cell_mm"] / 1.25) ** 2,  # about the points' own area
-                        cmap="viridis", norm=norm, linewidths=0, rasterized=True)
+        sc = ax.scatter(
+            1e3 * f["x"][order],
+            1e3 * f["z"][order],
+            c=np.clip(f["gdot"][order], 0.1, None),
+            s=0.6 * (r["cell_mm"] / 1.25) ** 2,  # about the points' own area
+            cmap="viridis",
+            norm=norm,
+            linewidths=0,
+            rasterized=True,
+        )
         phi = np.linspace(0.0, 2.0 * np.pi, 200)
         ax.fill(1e3 * RIM_RADIUS * np.cos(phi), 1e3 * RIM_RADIUS * np.sin(phi), color="tab:red", alpha=0.8)
         ax.set_xlim(-150, 250)

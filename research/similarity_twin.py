@@ -52,8 +52,12 @@ def check_bands(similar: tuple[float, float], not_similar: tuple[float, float]) 
                          f"similar {similar}, not similar {not_similar}")  # fmt: skip
 
 
-def verdict(d_slip: float, d_sinkage_over_r: float, similar: tuple[float, float] = SIMILAR,
-            not_similar: tuple[float, float] = NOT_SIMILAR) -> str:
+def verdict(
+    d_slip: float,
+    d_sinkage_over_r: float,
+    similar: tuple[float, float] = SIMILAR,
+    not_similar: tuple[float, float] = NOT_SIMILAR,
+) -> str:
     """The registered reading of the twin's difference from the reference (slip, sinkage / r):
     "similar" inside both ``similar`` bands, "not similar" past either ``not_similar`` band."""
     check_bands(similar, not_similar)
@@ -70,15 +74,23 @@ def pair_windows(reference: list[dict], twin: list[dict], time_ratio: float) -> 
     pairs = list(zip(reference, twin))
     for a, b in pairs:
         length = a["t_end"] - a["t_start"]
-        if abs(b["t_start"] / time_ratio - a["t_start"]) > 0.01 * length or abs(b["t_end"] / time_ratio - a["t_end"]) > 0.01 * length:
+        if (
+            abs(b["t_start"] / time_ratio - a["t_start"]) > 0.01 * length
+            or abs(b["t_end"] / time_ratio - a["t_end"]) > 0.01 * length
+        ):
             raise SystemExit(f"the twin's window {b['t_start']:g}-{b['t_end']:g} s is not the reference's "
                              f"{a['t_start']:g}-{a['t_end']:g} s scaled by {time_ratio:.6f}: make the twin's CSV with "
                              f"run_histories.py --every {length * time_ratio:.8f}")  # fmt: skip
     return pairs
 
 
-def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], window: tuple[float, float],
-            similar: tuple[float, float] = SIMILAR, not_similar: tuple[float, float] = NOT_SIMILAR) -> tuple[list[dict], dict]:
+def analyse(
+    reference: tuple[Path, str, float],
+    twin: tuple[Path, str, float],
+    window: tuple[float, float],
+    similar: tuple[float, float] = SIMILAR,
+    not_similar: tuple[float, float] = NOT_SIMILAR,
+) -> tuple[list[dict], dict]:
     """Every pair of windows and the comparison over ``window`` (the reference's time, s), read
     with the registered bands (slip, sinkage / r; default: an earlier study's)."""
     check_bands(similar, not_similar)  # before any file is read
@@ -97,16 +109,27 @@ def analyse(reference: tuple[Path, str, float], twin: tuple[Path, str, float], w
             for a, b in pairs]  # fmt: skip
     inside = [(a, b) for a, b in pairs if a["t_start"] >= window[0] - 1e-6 and a["t_end"] <= window[1] + 1e-6]
     if not inside:
-        raise SystemExit(f"no pair of windows inside {window[0]}-{window[1]} s (the pairs end at {pairs[-1][0]['t_end']} s)")
+        raise SystemExit(
+            f"no pair of windows inside {window[0]}-{window[1]} s (the pairs end at {pairs[-1][0]['t_end']} s)"
+        )
     means = {}
-    for name, runs, w, r in (("reference", [a for a, _ in inside], w_ref, r_ref), ("twin", [b for _, b in inside], w_twin, r_twin)):
+    for name, runs, w, r in (
+        ("reference", [a for a, _ in inside], w_ref, r_ref),
+        ("twin", [b for _, b in inside], w_twin, r_twin),
+    ):
         m = wheel_state(window_mean(runs, runs[0]["t_start"], runs[-1]["t_end"]), w, r)
         means[name] = {**m, "omega_rpm": w, "radius": r, "window": [runs[0]["t_start"], runs[-1]["t_end"]]}
     ref, tw = means["reference"], means["twin"]
     diff = {"slip": tw["slip"] - ref["slip"], "sinkage_over_r": tw["sinkage_over_r"] - ref["sinkage_over_r"]}
-    return rows, {"window": list(window), "time_ratio": time_ratio, "time_scale": t_ref, **means, "difference": diff,
-                  "registered": {"similar": list(similar), "not_similar": list(not_similar)},
-                  "verdict": verdict(diff["slip"], diff["sinkage_over_r"], similar, not_similar)}
+    return rows, {
+        "window": list(window),
+        "time_ratio": time_ratio,
+        "time_scale": t_ref,
+        **means,
+        "difference": diff,
+        "registered": {"similar": list(similar), "not_similar": list(not_similar)},
+        "verdict": verdict(diff["slip"], diff["sinkage_over_r"], similar, not_similar),
+    }
 
 
 def plot(rows: list[dict], result: dict, labels: tuple[str, str], path: Path) -> None:
@@ -129,11 +152,25 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--reference", nargs=3, required=True, metavar=("CSV", "LABEL", "RPM"))
     ap.add_argument("--twin", nargs=3, required=True, metavar=("CSV", "LABEL", "RPM"))
-    ap.add_argument("--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s")
-    ap.add_argument("--similar", nargs=2, type=float, default=SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
-                    help="the registered bands within which the twin reads similar (default: the 0.03 0.015)")
-    ap.add_argument("--not-similar", nargs=2, type=float, default=NOT_SIMILAR, metavar=("SLIP", "SINKAGE_OVER_R"),
-                    help="the registered bands past either of which it reads not similar (default: 0.06 0.03)")
+    ap.add_argument(
+        "--window", nargs=2, type=float, required=True, metavar=("T0", "T1"), help="the reference's time, s"
+    )
+    ap.add_argument(
+        "--similar",
+        nargs=2,
+        type=float,
+        default=SIMILAR,
+        metavar=("SLIP", "SINKAGE_OVER_R"),
+        help="the registered bands within which the twin reads similar (default: the 0.03 0.015)",
+    )
+    ap.add_argument(
+        "--not-similar",
+        nargs=2,
+        type=float,
+        default=NOT_SIMILAR,
+        metavar=("SLIP", "SINKAGE_OVER_R"),
+        help="the registered bands past either of which it reads not similar (default: 0.06 0.03)",
+    )
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     ref, twin = ((Path(p), lab, float(w)) for p, lab, w in (args.reference, args.twin))
@@ -151,7 +188,9 @@ def main() -> None:
         print(f"{name} over {m['window'][0]:g}-{m['window'][1]:g} s: v {m['velocity']:.4f} m/s, sinkage {m['sinkage'] * 1e3:.2f} mm, "
               f"slip {m['slip']:.3f}, sinkage / r {m['sinkage_over_r']:.3f}, drift {m['drift'] * 100:+.1f} %")  # fmt: skip
     d = result["difference"]
-    print(f"twin - reference: slip {d['slip']:+.3f}, sinkage / r {d['sinkage_over_r']:+.3f}: {result['verdict']} (registered thresholds)")
+    print(
+        f"twin - reference: slip {d['slip']:+.3f}, sinkage / r {d['sinkage_over_r']:+.3f}: {result['verdict']} (registered thresholds)"
+    )
 
 
 if __name__ == "__main__":

@@ -91,7 +91,9 @@ def analyse(sweeps: list[Path], variants: list[Path]) -> tuple[list[dict], float
     tau (s) of dh = tau v_s fitted on the first sweep's runs by least squares through the origin."""
     sets = [(p, "sweep") for p in sweeps] + [(p, "variants") for p in variants]
     rows = [dict(r, fit=k == 0) for k, (path, kind) in enumerate(sets) for r in _rows(path, kind)]
-    rows = list({(r["source"].split(":")[0], r["label"], r["sinkage"]): r for r in rows}.values())  # a run in two CSVs once
+    rows = list(
+        {(r["source"].split(":")[0], r["label"], r["sinkage"]): r for r in rows}.values()
+    )  # a run in two CSVs once
     fit = [r for r in rows if r["fit"] and r["drop_ok"]]
     vs, dh = np.array([r["slip_speed"] for r in fit]), np.array([r["dh"] for r in fit])
     tau = float(vs @ dh / (vs @ vs))
@@ -121,21 +123,28 @@ def main() -> None:
     if not args.sweep:
         raise SystemExit("give at least one --sweep (the first one is the fit set)")
     rows, tau = analyse([Path(p) for p in args.sweep], [Path(p) for p in args.variants])
-    print(f"tau = {tau * 1e3:.1f} ms, fitted on the {sum(r['fit'] and r['drop_ok'] for r in rows)} runs of {args.sweep[0]}")
+    print(
+        f"tau = {tau * 1e3:.1f} ms, fitted on the {sum(r['fit'] and r['drop_ok'] for r in rows)} runs of {args.sweep[0]}"
+    )
     print(f"{'run':<62s} {'slip':>5s} {'sink mm':>7s} {'v_s m/s':>7s} {'dh mm':>6s} {'median':>6s}  identity  slip law")
     for r in rows:
         drop = (f"{r['dh'] * 1e3:6.1f} {r['dh_median'] * 1e3:6.1f}  {_miss(r['dh_identity'], r['dh'])}  "
                 f"{_miss(r['dh_slip_law'], r['dh'])}") if r["drop_ok"] else (
                 f"{r['dh'] * 1e3:6.1f}  (measurement failed)" if math.isfinite(r["dh"]) else "     -  (not measured)")  # fmt: skip
-        print(f"{r['source'] + ', ' + r['label']:<62s} {r['slip']:5.2f} {r['sinkage'] * 1e3:7.1f} {r['slip_speed']:7.3f} {drop}")
+        print(
+            f"{r['source'] + ', ' + r['label']:<62s} {r['slip']:5.2f} {r['sinkage'] * 1e3:7.1f} {r['slip_speed']:7.3f} {drop}"
+        )
     quad = slip_sinkage(rows)
     miss = [np.polyval(quad, r["slip"]) * r["radius"] / r["sinkage"] - 1 for r in rows]
     print(f"sinkage / r = {quad[2]:.4f} + {quad[1]:.4f} s + {quad[0]:.4f} s^2 on {len(rows)} runs: "
           f"misses {min(miss):+.1%} to {max(miss):+.1%}")  # fmt: skip
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.with_suffix(".json").write_text(json.dumps({
-        "slip_law_tau_s": tau, "slip_sinkage_c0_c1_c2": [quad[2], quad[1], quad[0]], "runs": len(rows)}, indent=1))
+    out.with_suffix(".json").write_text(
+        json.dumps(
+            {"slip_law_tau_s": tau, "slip_sinkage_c0_c1_c2": [quad[2], quad[1], quad[0]], "runs": len(rows)}, indent=1
+        )
+    )
     with out.with_suffix(".csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(FIELDS), extrasaction="ignore")
         w.writeheader()
@@ -159,7 +168,9 @@ def main() -> None:
     c.set(xlabel="slip s = 1 - v / (r omega)", ylabel="sinkage / r", title="sinkage against slip")
     for ax in (a, b, c):
         ax.legend(fontsize=6)
-    fig.suptitle("MPM wheels, band 0: what the rear drop and the sinkage follow (drop panels: runs whose drop measurement worked)")
+    fig.suptitle(
+        "MPM wheels, band 0: what the rear drop and the sinkage follow (drop panels: runs whose drop measurement worked)"
+    )
     fig.tight_layout()
     fig.savefig(out.with_suffix(".png"), dpi=120)
     print(out.with_suffix(".csv"), out.with_suffix(".png"))

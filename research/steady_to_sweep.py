@@ -21,8 +21,22 @@ import csv
 import math
 from pathlib import Path
 
-FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift",
-          "settled", "error", "cell_mm", "surface_drop", "window_start", "window_end")
+FIELDS = (
+    "omega_rpm",
+    "ok",
+    "velocity",
+    "sinkage",
+    "slip",
+    "velocity_std",
+    "sinkage_std",
+    "drift",
+    "settled",
+    "error",
+    "cell_mm",
+    "surface_drop",
+    "window_start",
+    "window_end",
+)
 
 
 def sweep_rows(paths: list[Path], label_contains: str, cell_mm: float, settled_drift: float) -> list[dict]:
@@ -34,13 +48,24 @@ def sweep_rows(paths: list[Path], label_contains: str, cell_mm: float, settled_d
                 if label_contains not in r["label"]:
                     continue
                 drift = float(r["drift"])
-                rows.append({
-                    "omega_rpm": round(float(r["omega"]) * 30.0 / math.pi, 9), "ok": True,
-                    "velocity": float(r["velocity"]), "sinkage": float(r["sinkage"]), "slip": float(r["slip"]),
-                    "velocity_std": "", "sinkage_std": "", "drift": drift, "settled": abs(drift) < settled_drift,
-                    "error": "", "cell_mm": cell_mm, "surface_drop": float(r["surface_drop"]),
-                    "window_start": float(r["window_start"]), "window_end": float(r["window_end"]),
-                })
+                rows.append(
+                    {
+                        "omega_rpm": round(float(r["omega"]) * 30.0 / math.pi, 9),
+                        "ok": True,
+                        "velocity": float(r["velocity"]),
+                        "sinkage": float(r["sinkage"]),
+                        "slip": float(r["slip"]),
+                        "velocity_std": "",
+                        "sinkage_std": "",
+                        "drift": drift,
+                        "settled": abs(drift) < settled_drift,
+                        "error": "",
+                        "cell_mm": cell_mm,
+                        "surface_drop": float(r["surface_drop"]),
+                        "window_start": float(r["window_start"]),
+                        "window_end": float(r["window_end"]),
+                    }
+                )
     omegas = [r["omega_rpm"] for r in rows]
     if len(set(omegas)) != len(omegas):
         raise SystemExit(f"two rows at one omega ({sorted(omegas)} RPM): narrow --label-contains")

@@ -79,7 +79,9 @@ def predict(args: argparse.Namespace) -> None:
             st = run_steady(variants[n, mz, f, k], "drft", args.rpm)
             rows.append({"lug_count": n, "mass_z": mz, "push": f, "omega_rpm": args.rpm, "model": label,
                          "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip})  # fmt: skip
-            print(f"{_variant(n, mz, f)}, {label:<28s} v {st.velocity:.4f} m/s, sinkage {st.sinkage * 1e3:.1f} mm, slip {st.slip:.3f}")
+            print(
+                f"{_variant(n, mz, f)}, {label:<28s} v {st.velocity:.4f} m/s, sinkage {st.sinkage * 1e3:.1f} mm, slip {st.slip:.3f}"
+            )
     _write(Path(args.out), rows)
 
 
@@ -98,9 +100,13 @@ def compare(args: argparse.Namespace) -> None:
             continue
         info = json.loads(info_path.read_text())
         n, mz = int(info["scenario"]["lug_count"]), float(info["scenario"]["mass_z"])
-        push = forward_force(LocomotorScenario.model_validate(info["scenario"]), MPMSettings.model_validate(info["settings"]))
+        push = forward_force(
+            LocomotorScenario.model_validate(info["scenario"]), MPMSettings.model_validate(info["settings"])
+        )
         st = summarise_run(run, t_start=args.window[0], t_end=args.window[1])
-        drops = [d for t, d in read_progress(run)[0] if args.window[0] < t <= args.window[1] + 1e-9 and math.isfinite(d)]
+        drops = [
+            d for t, d in read_progress(run)[0] if args.window[0] < t <= args.window[1] + 1e-9 and math.isfinite(d)
+        ]
         rows.append({"lug_count": n, "mass_z": mz, "push": push, "omega_rpm": round(st.omega / RPM, 3), "model": "MPM",
                      "velocity": st.velocity, "sinkage": st.sinkage, "slip": st.slip, "drift": st.drift,
                      "surface_drop": st.surface_drop, "surface_drop_median": statistics.median(drops) if drops else "",
@@ -119,9 +125,15 @@ def compare(args: argparse.Namespace) -> None:
     if not rows:
         raise SystemExit("no MPM run folder (with locomotion.json) among the arguments")
     out = Path(args.out)
-    _write(out.with_suffix(".csv"), rows + [dict(r, drift="", run="") for r in pred], FIELDS + ("drift", "surface_drop", "surface_drop_median", "run"))
+    _write(
+        out.with_suffix(".csv"),
+        rows + [dict(r, drift="", run="") for r in pred],
+        FIELDS + ("drift", "surface_drop", "surface_drop_median", "run"),
+    )
     for r in sorted(rows, key=_key):
-        print(f"{_variant(r['lug_count'], r['mass_z'], r['push'])}, MPM: v {r['velocity']:.4f} m/s, sinkage {r['sinkage'] * 1e3:.1f} mm (drift {r['drift']:.3f})")
+        print(
+            f"{_variant(r['lug_count'], r['mass_z'], r['push'])}, MPM: v {r['velocity']:.4f} m/s, sinkage {r['sinkage'] * 1e3:.1f} mm (drift {r['drift']:.3f})"
+        )
         for p in (p for p in pred if _key(p) == _key(r)):
             print(f"      {p['model']:<28s} v {p['velocity']:.4f} ({p['velocity'] / r['velocity'] - 1:+.1%}), "
                   f"sinkage {p['sinkage'] * 1e3:.1f} mm ({p['sinkage'] / r['sinkage'] - 1:+.1%})")  # fmt: skip
@@ -146,8 +158,11 @@ def compare(args: argparse.Namespace) -> None:
         ax.set_xlabel(xlabel)
         ax.set_ylabel(unit)
     axes[0].legend(fontsize=8)
-    fig.suptitle(f"Table S1 wheel with {what}, {rows[0]['omega_rpm']:g} RPM:\n"
-                 "DRFT predictions (k_b fitted on N = 20, 6.3 kg, 4 N) and MPM", fontsize=10)
+    fig.suptitle(
+        f"Table S1 wheel with {what}, {rows[0]['omega_rpm']:g} RPM:\n"
+        "DRFT predictions (k_b fitted on N = 20, 6.3 kg, 4 N) and MPM",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(out.with_suffix(".png"), dpi=120)
     print(out.with_suffix(".csv"), out.with_suffix(".png"))
@@ -176,18 +191,35 @@ def main() -> None:
     p = sub.add_parser("predict")
     p.add_argument("--calibration", required=True, help="an `intrusim calibrate` JSON with a fitted bulldozing k_b")
     p.add_argument("--lug-counts", type=int, nargs="+", default=[10, 15, 20, 30])
-    p.add_argument("--mass-z", type=float, nargs="+", default=[TABLE_S1_MASS_Z], metavar="KG",
-                   help="vertical masses m_z, kg (default: the Table S1 wheel's)")
-    p.add_argument("--push", type=float, nargs="+", default=[MPM_PUSH], metavar="N",
-                   help="constant forward pushes, N (default: the MPM runs' 4 N; < 0 pulls back, a drawbar load)")
+    p.add_argument(
+        "--mass-z",
+        type=float,
+        nargs="+",
+        default=[TABLE_S1_MASS_Z],
+        metavar="KG",
+        help="vertical masses m_z, kg (default: the Table S1 wheel's)",
+    )
+    p.add_argument(
+        "--push",
+        type=float,
+        nargs="+",
+        default=[MPM_PUSH],
+        metavar="N",
+        help="constant forward pushes, N (default: the MPM runs' 4 N; < 0 pulls back, a drawbar load)",
+    )
     p.add_argument("--rpm", type=float, default=30.0)
     p.add_argument("--out", required=True)
     c = sub.add_parser("compare")
     c.add_argument("runs", nargs="+")
     c.add_argument("--window", type=float, nargs=2, default=(2.0, 3.0), metavar=("T0", "T1"))
     c.add_argument("--prediction", required=True)
-    c.add_argument("--history", action="append", default=[], metavar="CSV:RUN:N",
-                   help="an MPM run of N grousers (6.3 kg) whose folder is gone, from the windows of a run_histories CSV (repeatable)")
+    c.add_argument(
+        "--history",
+        action="append",
+        default=[],
+        metavar="CSV:RUN:N",
+        help="an MPM run of N grousers (6.3 kg) whose folder is gone, from the windows of a run_histories CSV (repeatable)",
+    )
     c.add_argument("--rpm", type=float, default=30.0, help="omega of --history runs when no run folder is given")
     c.add_argument("--out", required=True)
     args = ap.parse_args()

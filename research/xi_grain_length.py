@@ -120,8 +120,17 @@ def plot(result: dict, path: Path) -> None:
         for label in sorted({(r["scenario"], r["d_over_r"]) for r in result["checks"]}):
             rows = [r for r in result["checks"] if (r["scenario"], r["d_over_r"]) == label]
             x = [r["omega_over_omega0"] for r in rows]
-            (line,) = ax[k].plot(x, [100 * r[f"{key}_law"] for r in rows], "o-", label=f"{label[0]}, d/r {label[1]:.3f}: law")
-            ax[k].plot(x, [100 * r[f"{key}_no_length"] for r in rows], "o--", mfc="none", color=line.get_color(), label="  no length")
+            (line,) = ax[k].plot(
+                x, [100 * r[f"{key}_law"] for r in rows], "o-", label=f"{label[0]}, d/r {label[1]:.3f}: law"
+            )
+            ax[k].plot(
+                x,
+                [100 * r[f"{key}_no_length"] for r in rows],
+                "o--",
+                mfc="none",
+                color=line.get_color(),
+                label="  no length",
+            )
         ax[k].axhspan(-100 * TARGET, 100 * TARGET, color="0.9", zorder=0)
         ax[k].axhline(0.0, color="k", lw=0.5)
         ax[k].set_xlabel("omega / omega_0")

@@ -12,7 +12,9 @@ SCRIPT = Path(__file__).resolve().parents[1] / "mpm_contact_band.py"
 
 
 def _run(*options: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, str(SCRIPT), "wheel", "30", *options], capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), "wheel", "30", *options], capture_output=True, text=True, timeout=120
+    )
 
 
 @pytest.mark.parametrize("option, value, field", [("--youngs-modulus", "-1", "youngs_modulus"), ("--cfl", "1.5", "cfl"),

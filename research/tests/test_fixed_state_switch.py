@@ -47,11 +47,15 @@ def test_the_held_wheel_keeps_its_height_and_the_speed_asked(load_example, free_
     held = [r for r in rows if r["time"] > info["t_switch"] + 1e-9]
     assert 19 <= len(held) <= 20 and t[-1] > 0.98  # recorded every 0.01 s
     assert len(rows) - len(held) == free_t.size  # the free run's rows, then the held ones
-    assert all(r["z"] == pytest.approx(info["z"], abs=1e-9) and r["vx"] == pytest.approx(info["vx"], rel=1e-6) for r in held)
+    assert all(
+        r["z"] == pytest.approx(info["z"], abs=1e-9) and r["vx"] == pytest.approx(info["vx"], rel=1e-6) for r in held
+    )
     assert all(r["omega"] == pytest.approx(-90.0 * 2 * np.pi / 60, rel=1e-6) for r in held)
     th, xh = np.array([r["time"] for r in held]), np.array([r["x"] for r in held])
     assert xh[-1] - xh[0] > 0.15  # past the treadmill's trigger more than once (it shifts at 0.2 m)
-    np.testing.assert_allclose(xh - xh[0], info["vx"] * (th - th[0]), rtol=0, atol=1e-6)  # bed frame, through the shifts
+    np.testing.assert_allclose(
+        xh - xh[0], info["vx"] * (th - th[0]), rtol=0, atol=1e-6
+    )  # bed frame, through the shifts
     loco = json.loads((folder / "locomotion.json").read_text())
     assert loco["omega_rpm"] == 90.0 and loco["held"]["from_run"] == str(free_run)
 
@@ -65,7 +69,9 @@ def test_the_first_held_row_averages_the_force_over_its_own_interval(load_exampl
     free_t = np.genfromtxt(free_run / "timeseries.csv", delimiter=",", names=True)
     held = [r for r in rows if r["time"] > free_t["time"][-1] + 1e-9]
     scale = float(np.max(np.abs(free_t["fz"][-30:])))
-    assert abs(held[0]["fz"]) < 2.0 * scale and abs(held[0]["fx"]) < 2.0 * float(np.max(np.abs(free_t["fx"][-30:]))) + 5.0
+    assert (
+        abs(held[0]["fz"]) < 2.0 * scale and abs(held[0]["fx"]) < 2.0 * float(np.max(np.abs(free_t["fx"][-30:]))) + 5.0
+    )
 
 
 def test_a_finished_held_run_is_not_run_again(load_example, free_run, tmp_path, capsys):
@@ -107,7 +113,10 @@ def test_the_table_averages_whole_windows_after_the_switch(load_example, free_ru
         assert 4 <= len(sel) <= 6 and w["omega_rpm"] == 30.0
         assert w["fz"] == pytest.approx(np.mean([r["fz"] for r in sel]), rel=1e-12)
         assert w["fx"] == pytest.approx(np.mean([r["fx"] for r in sel]), rel=1e-12)
-    assert len(mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.15)) == 1  # 0.15-0.3 s is not held
+    assert (
+        len(mod.after_switch_means(np.genfromtxt(folder / "timeseries.csv", delimiter=",", names=True), t_switch, 0.15))
+        == 1
+    )  # 0.15-0.3 s is not held
     with pytest.raises(SystemExit, match="must be positive"):
         mod.table(argparse.Namespace(folders=[str(tmp_path / "held")], window=0.1, after_switch=0.0, out=str(fig)))
     with pytest.raises(SystemExit, match="none held a whole window"):

@@ -53,7 +53,9 @@ def test_bad_fit_input_is_refused(q, xi, match):
         fit_xi_length_law(q, xi)
 
 
-@pytest.mark.parametrize("args", [(0.0, 0.1, 1.0), (2.0, -0.1, 1.0), (float("inf"), 0.1, 1.0), (2.0, 0.1, float("nan"))])
+@pytest.mark.parametrize(
+    "args", [(0.0, 0.1, 1.0), (2.0, -0.1, 1.0), (float("inf"), 0.1, 1.0), (2.0, 0.1, float("nan"))]
+)
 def test_a_bad_law_is_refused(args):
     with pytest.raises(ValueError):
         XiLengthLaw(*args)

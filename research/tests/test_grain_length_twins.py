@@ -159,7 +159,10 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
                        10.0, 0.106, (5.0, 6.0))  # fmt: skip
     assert big["windows"] == 2 and big["drift"] < 0.05  # settled by the registered rule
     assert (big["velocity"], big["sinkage"], big["slip"]) == (
-        pytest.approx(0.0917, abs=2e-4), pytest.approx(24.27e-3, abs=0.02e-3), pytest.approx(0.174, abs=0.001))
+        pytest.approx(0.0917, abs=2e-4),
+        pytest.approx(24.27e-3, abs=0.02e-3),
+        pytest.approx(0.174, abs=0.001),
+    )
     six = script.state(FIG / "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 6e-3, 10.0, 0.106,
                        (5.0, 6.0))  # the 6 mm-grain wheel, an earlier study  # fmt: skip
     six_slip, six_sinkage = six["slip"], six["sinkage"]
@@ -169,7 +172,10 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
     assert big["slip"] > 0.061 + 0.100  # (b): not a grain-length effect
     per_doubling = (big["slip"] - six_slip, (big["sinkage"] - six_sinkage) / 0.106)
     assert per_doubling == (pytest.approx(-0.072, abs=0.002), pytest.approx(-0.025, abs=0.002))
-    for v, sink, dv, ds in ((0.0996, 19.7e-3, 0.086, -0.188), (0.1002, 16.57e-3, 0.093, -0.317)):  # (c) xi 1.94, (d) 3.773
+    for v, sink, dv, ds in (
+        (0.0996, 19.7e-3, 0.086, -0.188),
+        (0.1002, 16.57e-3, 0.093, -0.317),
+    ):  # (c) xi 1.94, (d) 3.773
         assert v / big["velocity"] - 1 == pytest.approx(dv, abs=0.002)
         assert sink / big["sinkage"] - 1 == pytest.approx(ds, abs=0.002)
         assert abs(ds) > 0.15  # the sinkage misses
@@ -187,7 +193,10 @@ def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_perc
     assert late["windows"] == 2 and abs(late["drift"]) < 0.01
     assert abs(halves[1]["sinkage"] - halves[0]["sinkage"]) < 0.2e-3  # (e) settled
     assert (late["velocity"], late["sinkage"], late["slip"]) == (
-        pytest.approx(0.0922, abs=2e-4), pytest.approx(23.35e-3, abs=0.02e-3), pytest.approx(0.170, abs=0.001))
+        pytest.approx(0.0922, abs=2e-4),
+        pytest.approx(23.35e-3, abs=0.02e-3),
+        pytest.approx(0.170, abs=0.001),
+    )
     earlier = script.state(csv, label, 12e-3, 10.0, 0.106, (5.0, 6.0))  # the same run's 5.0-6.0 s, as earlier
     assert earlier["sinkage"] == pytest.approx(24.27e-3, abs=0.02e-3) and earlier["sinkage"] - late["sinkage"] > 0.8e-3
     assert late["sinkage"] > 19.7e-3 / 0.85  # (c) missed, by 0.16 mm of sinkage
@@ -208,7 +217,10 @@ def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15
     before = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 8.0))
     assert late["windows"] == 2 and abs(late["drift"]) < 0.01
     assert (late["velocity"], late["sinkage"], late["slip"]) == (
-        pytest.approx(0.0919, abs=2e-4), pytest.approx(23.18e-3, abs=0.02e-3), pytest.approx(0.172, abs=0.001))
+        pytest.approx(0.0919, abs=2e-4),
+        pytest.approx(23.18e-3, abs=0.02e-3),
+        pytest.approx(0.172, abs=0.001),
+    )
     assert before["sinkage"] == pytest.approx(23.35e-3, abs=0.02e-3)  # the first extension's reading
     assert abs(halves[1]["sinkage"] - halves[0]["sinkage"]) > 0.2e-3  # (e') not settled by the rule ...
     assert 0 < before["sinkage"] - late["sinkage"] < 0.3e-3  # ... nor still easing by it
@@ -229,7 +241,10 @@ def test_carried_to_14_s_the_10_rpm_sinkage_has_stopped_at_xi_drfts_limit(script
     plateau = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 14.0))
     assert late["windows"] == 2 and plateau["windows"] == 14 and abs(plateau["drift"]) < 0.01
     assert (late["velocity"], late["sinkage"], late["slip"]) == (
-        pytest.approx(0.0914, abs=2e-4), pytest.approx(23.30e-3, abs=0.02e-3), pytest.approx(0.177, abs=0.001))
+        pytest.approx(0.0914, abs=2e-4),
+        pytest.approx(23.30e-3, abs=0.02e-3),
+        pytest.approx(0.177, abs=0.001),
+    )
     assert abs(late["sinkage"] - mid["sinkage"]) < 0.2e-3  # (e'') ended
     assert 22.93e-3 < late["sinkage"] < 23.33e-3  # (c'') on the edge
     assert plateau["sinkage"] == pytest.approx(23.22e-3, abs=0.02e-3)

@@ -14,8 +14,10 @@ from intrusim._checks import InputError
 
 FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
 D6 = (FIG / "small_wheel_60rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s", 6e-3)
-LARGE = [(FIG / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s"),
-         (FIG / "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m")]
+LARGE = [
+    (FIG / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s"),
+    (FIG / "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m"),
+]
 
 
 @pytest.fixture(scope="module")
@@ -36,14 +38,21 @@ def test_the_6_mm_run_against_itself_changes_nothing_and_reads_not_at_all(script
     _, res = script.analyse([D6, D6], LARGE, 60.0, (1.5, 2.0))
     first = res["runs"][0]
     assert first["windows"] == 2 and abs(first["drift"]) < 0.05
-    assert first["velocity"] == pytest.approx(0.3036, abs=2e-4) and first["sinkage"] == pytest.approx(9.23e-3, abs=0.02e-3)
+    assert first["velocity"] == pytest.approx(0.3036, abs=2e-4) and first["sinkage"] == pytest.approx(
+        9.23e-3, abs=0.02e-3
+    )
     assert first["slip"] == pytest.approx(0.088, abs=0.001)
     assert res["change"] == {"slip": 0.0, "sinkage": 0.0, "velocity": 0.0}
     assert res["verdict"] == "not at all"
     large = res["large_wheel"]
     assert large["omega_rpm"] == pytest.approx(42.43, abs=0.01)
-    assert (large["slip"], large["sinkage_over_r"]) == (pytest.approx(0.117, abs=0.002), pytest.approx(0.187, abs=0.002))
-    assert large["grain_over_r"] == pytest.approx(0.057, abs=0.001) and first["grain_over_r"] == pytest.approx(0.113, abs=0.001)
+    assert (large["slip"], large["sinkage_over_r"]) == (
+        pytest.approx(0.117, abs=0.002),
+        pytest.approx(0.187, abs=0.002),
+    )
+    assert large["grain_over_r"] == pytest.approx(0.057, abs=0.001) and first["grain_over_r"] == pytest.approx(
+        0.113, abs=0.001
+    )
 
 
 def test_a_window_past_the_run_is_refused(script):

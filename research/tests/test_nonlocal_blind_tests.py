@@ -27,12 +27,21 @@ def _steady(name: str) -> dict[str, dict[str, float]]:
         return {r["label"]: {k: float(v) for k, v in r.items() if k not in ("run", "label")} for r in csv.DictReader(f)}
 
 
-def _settled(name: str, label: str, window: tuple[float, float], v: float, sinkage: float, slip: float,
-             sinkage_tol: float = 0.1e-3) -> dict[str, float]:
+def _settled(
+    name: str,
+    label: str,
+    window: tuple[float, float],
+    v: float,
+    sinkage: float,
+    slip: float,
+    sinkage_tol: float = 0.1e-3,
+) -> dict[str, float]:
     """The steady row ``label`` of ``name``: over the registered ``window``, settled by the registered
     criterion (drift below 5 %), at these values (v within 3e-4 m/s, slip within 0.002)."""
     st = _steady(name)[label]
-    assert st["window_start"] == pytest.approx(window[0], abs=0.01) and st["window_end"] == pytest.approx(window[1], abs=0.02)
+    assert st["window_start"] == pytest.approx(window[0], abs=0.01) and st["window_end"] == pytest.approx(
+        window[1], abs=0.02
+    )
     assert abs(st["drift"]) < 0.05
     assert st["velocity"] == pytest.approx(v, abs=3e-4) and st["sinkage"] == pytest.approx(sinkage, abs=sinkage_tol)
     assert st["slip"] == pytest.approx(slip, abs=0.002)
@@ -87,7 +96,14 @@ def test_the_small_wheel_blind_test_missed(small_drft):
     """Small wheel, 30 RPM, 2.5 mm: settled over 3.0-4.0 s (drift 0.1 %) at v 0.1134 m/s, sinkage
     16.2 mm, slip 0.319. The registered prediction, v 0.149 m/s and 9.8 mm, is v +31.5 % and
     sinkage -39.3 %: outside the 15 % of the pass."""
-    st = _settled("small_wheel_30rpm_nonlocal_treadmill_steady.csv", "small wheel, 2.5 mm, treadmill in 0.6 m", (3.0, 4.0), 0.1134, 16.2e-3, 0.319)
+    st = _settled(
+        "small_wheel_30rpm_nonlocal_treadmill_steady.csv",
+        "small wheel, 2.5 mm, treadmill in 0.6 m",
+        (3.0, 4.0),
+        0.1134,
+        16.2e-3,
+        0.319,
+    )
     v, s, slip = small_drft
     assert (v, s) == (pytest.approx(0.149, abs=1e-3), pytest.approx(9.8e-3, abs=0.1e-3))  # as registered
     assert v / st["velocity"] - 1 == pytest.approx(0.315, abs=0.01)
@@ -120,7 +136,9 @@ def test_the_60_rpm_blind_test_met(xi):
     19.0 mm, slip 0.102. The registered prediction, v 0.596 m/s and 19.7 mm, is v -0.3 % and
     sinkage +3.8 %: within the 15 % of the pass. v is linear in omega across the three settled
     wheels (v60 / v30 = 2.06, v90 / v30 = 3.07), the sinkage 19.0-20.4 mm at all three."""
-    st = _settled("wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m", (4.5, 5.5), 0.5984, 19.0e-3, 0.102)
+    st = _settled(
+        "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m", (4.5, 5.5), 0.5984, 19.0e-3, 0.102
+    )
     v, s, _ = _drft(grousered_wheel_scenario(), xi, 60.0)
     assert (v, s) == (pytest.approx(0.596, abs=1e-3), pytest.approx(19.7e-3, abs=0.1e-3))  # as registered
     assert v / st["velocity"] - 1 == pytest.approx(-0.003, abs=0.005)
@@ -138,7 +156,14 @@ def test_the_10_rpm_extrapolation_missed(xi):
     19.7 mm, is v +18.9 % and sinkage -27.0 %: outside the 15 % of the pass. The wheel slips 1.9-2.4x
     what it slips at 30-90 RPM, and its sinkage is where the slip-sinkage quadratic puts it
     (26.2 mm; the MPM +2.7 %): the miss is the slip, which the rate-independent part of DRFT holds at 0.10."""
-    st = _settled("wheel_10rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 10 RPM, treadmill in 1 m", (5.0, 6.0), 0.0838, 26.9e-3, 0.246)
+    st = _settled(
+        "wheel_10rpm_nonlocal_treadmill_steady.csv",
+        "2.5 mm, 10 RPM, treadmill in 1 m",
+        (5.0, 6.0),
+        0.0838,
+        26.9e-3,
+        0.246,
+    )
     v, s, slip = _drft(grousered_wheel_scenario(), xi, 10.0)
     assert (v, s) == (pytest.approx(0.0996, abs=1e-4), pytest.approx(19.7e-3, abs=0.1e-3))  # as registered
     assert v / st["velocity"] - 1 == pytest.approx(0.189, abs=0.005)
@@ -157,7 +182,14 @@ def test_the_20_rpm_test_met(xi):
     v 0.1852 m/s, sinkage 22.3 mm, slip 0.166. The registered prediction, v 0.199 m/s and 19.7 mm, is
     v +7.6 % and sinkage -11.5 %: within the 15 % of the pass. The slip lies between the 30 and 10 RPM
     slips and the sinkage between theirs, on the slip-sinkage quadratic (22.4 mm; the MPM -0.3 %)."""
-    st = _settled("wheel_20rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 20 RPM, treadmill in 1 m", (4.0, 5.0), 0.1852, 22.3e-3, 0.166)
+    st = _settled(
+        "wheel_20rpm_nonlocal_treadmill_steady.csv",
+        "2.5 mm, 20 RPM, treadmill in 1 m",
+        (4.0, 5.0),
+        0.1852,
+        22.3e-3,
+        0.166,
+    )
     v, s, slip = _drft(grousered_wheel_scenario(), xi, 20.0)
     assert (v, s) == (pytest.approx(0.199, abs=1e-3), pytest.approx(19.7e-3, abs=0.1e-3))  # as registered
     assert v / st["velocity"] - 1 == pytest.approx(0.0755, abs=0.002)
@@ -178,7 +210,14 @@ def test_the_15_rpm_test_v_met_sinkage_missed_as_registered(xi):
     +13 %) and sinkage -16.2 % (outside 15 %, as registered: the MPM sinks deeper than 23.14 mm).
     The slip (registered 0.19-0.21) and the sinkage (23.6-24.2 mm) came out below their ranges; the
     sinkage lies on the slip-sinkage quadratic within 5 % (+1.9 %, as registered)."""
-    st = _settled("wheel_15rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 15 RPM, treadmill in 1 m", (4.5, 5.5), 0.1364, 23.5e-3, 0.181)
+    st = _settled(
+        "wheel_15rpm_nonlocal_treadmill_steady.csv",
+        "2.5 mm, 15 RPM, treadmill in 1 m",
+        (4.5, 5.5),
+        0.1364,
+        23.5e-3,
+        0.181,
+    )
     v, s, slip = _drft(grousered_wheel_scenario(), xi, 15.0)
     assert (v, s) == (pytest.approx(0.1494, abs=1e-4), pytest.approx(19.67e-3, abs=0.01e-3))  # as registered
     assert v / st["velocity"] - 1 == pytest.approx(0.095, abs=0.002) and 0.1299 <= st["velocity"] <= 0.1758
@@ -198,7 +237,14 @@ def test_the_12p5_rpm_test_met_as_registered(xi):
     0.3 %) at v 0.1098 m/s, sinkage 24.9 mm, slip 0.209 (registered 0.195-0.215, v 0.1092-0.1117, on the
     quadratic within 5 %: +2.4 %). xi-DRFT (v 0.1245 m/s, 19.65 mm): v +13.4 % (within 15 %: the MPM's v
     above 0.1083 m/s), sinkage -21.2 % (outside: deeper than 23.12 mm), as registered."""
-    st = _settled("wheel_12p5rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 12.5 RPM, treadmill in 1 m", (4.5, 5.5), 0.1098, 24.94e-3, 0.209)
+    st = _settled(
+        "wheel_12p5rpm_nonlocal_treadmill_steady.csv",
+        "2.5 mm, 12.5 RPM, treadmill in 1 m",
+        (4.5, 5.5),
+        0.1098,
+        24.94e-3,
+        0.209,
+    )
     v, s, slip = _drft(grousered_wheel_scenario(), xi, 12.5)
     assert (v, s) == (pytest.approx(0.1245, abs=1e-4), pytest.approx(19.65e-3, abs=0.01e-3))  # as registered
     assert 0.195 <= st["slip"] <= 0.215 and 0.1092 <= st["velocity"] <= 0.1117
@@ -214,7 +260,9 @@ def test_the_12p5_rpm_test_met_as_registered(xi):
 def test_the_15_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """Over the last second the 0.25 s windows hold v within 0.1360-0.1368 m/s while the sinkage eases
     from 23.8 to 23.4 mm, flat over the last three windows (23.39, 23.39, 23.36 mm)."""
-    v, s = _windows(figure_history, "wheel_15rpm_nonlocal_treadmill.csv", "2.5 mm, 15 RPM, treadmill in 1 m", 4.5, 5.5, 4)
+    v, s = _windows(
+        figure_history, "wheel_15rpm_nonlocal_treadmill.csv", "2.5 mm, 15 RPM, treadmill in 1 m", 4.5, 5.5, 4
+    )
     assert 0.1358 < min(v) and max(v) < 0.1370
     assert s[0] == pytest.approx(23.78e-3, abs=0.02e-3) and max(s[1:]) - min(s[1:]) < 0.05e-3
     assert abs(19.67e-3 / min(s) - 1) > 0.15  # the sinkage miss holds at the shallowest window
@@ -237,7 +285,9 @@ def test_the_15_rpm_wheel_carried_on_to_6p5_s_puts_drft_on_the_15_percent_line(x
 def test_the_20_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """Over the last second the 0.25 s windows hold v within 0.1838-0.1874 m/s while the sinkage eases
     from 22.5 to 21.9 mm; at 21.9 mm DRFT's sinkage would still be within 15 % (-10 %)."""
-    v, s = _windows(figure_history, "wheel_20rpm_nonlocal_treadmill.csv", "2.5 mm, 20 RPM, treadmill in 1 m", 4.0, 5.0, 4)
+    v, s = _windows(
+        figure_history, "wheel_20rpm_nonlocal_treadmill.csv", "2.5 mm, 20 RPM, treadmill in 1 m", 4.0, 5.0, 4
+    )
     assert 0.1836 < min(v) and max(v) < 0.1876
     assert s[-1] < s[0] and 21.8e-3 < min(s) and max(s) < 22.6e-3
     assert abs(19.73e-3 / min(s) - 1) < 0.15
@@ -246,7 +296,9 @@ def test_the_20_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
 def test_the_10_rpm_wheel_settled_in_v_while_its_sinkage_eased(figure_history):
     """From 3.0 s on the 0.25 s windows hold v within 0.0830-0.0842 m/s while the sinkage eases
     from 28.0 to 26.8 mm (27.08 to 26.84 mm across the last second's four windows: slowing, not flat)."""
-    v, s = _windows(figure_history, "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 3.0, 6.0, 12)
+    v, s = _windows(
+        figure_history, "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 3.0, 6.0, 12
+    )
     assert 0.0829 < min(v) and max(v) < 0.0843
     assert s[0] == pytest.approx(28.04e-3, abs=0.02e-3) and s[-1] == pytest.approx(26.84e-3, abs=0.02e-3)
     assert s[-4] - s[-1] == pytest.approx(0.24e-3, abs=0.02e-3)
@@ -257,7 +309,9 @@ def test_the_10_rpm_wheel_at_5_mm_met_its_resolution_predictions():
     and sinks 36.5 mm (predicted 0.35-0.55 and 30-40 mm); its slip step to 2.5 mm, 0.168, is 0.74x
     the 30 RPM step (0.228; the limit 1.5x), so the 2.5 mm reference reads as resolved. Its sinkage
     is on the slip-sinkage quadratic (-0.1 %)."""
-    coarse = _settled("wheel_10rpm_nonlocal_5mm_steady.csv", "5 mm, 10 RPM, treadmill in 1 m", (6.0, 10.0), 0.0651, 36.5e-3, 0.414)
+    coarse = _settled(
+        "wheel_10rpm_nonlocal_5mm_steady.csv", "5 mm, 10 RPM, treadmill in 1 m", (6.0, 10.0), 0.0651, 36.5e-3, 0.414
+    )
     fine = _steady("wheel_10rpm_nonlocal_treadmill_steady.csv")["2.5 mm, 10 RPM, treadmill in 1 m"]
     w30 = _steady("wheel_30rpm_nonlocal_treadmill_steady.csv")
     assert 0.35 <= coarse["slip"] <= 0.55 and 30e-3 <= coarse["sinkage"] <= 40e-3  # prediction 1
@@ -299,7 +353,9 @@ def test_the_small_wheel_at_1p25_mm_met_both_predictions(small_drft):
     """Small wheel, 30 RPM, 1.25 mm, 0.45 m box: over 2.0-3.0 s (drift 1.9 %) v 0.1470 m/s, sinkage
     10.08 mm, slip 0.118. Prediction 1 (slip below 0.20, sinkage / r below 0.25) and prediction 2
     (xi-DRFT's v 0.149 m/s and 9.8 mm within 15 %: v +1.5 %, sinkage -2.3 %) are both met."""
-    st = _settled("small_wheel_30rpm_nonlocal_cells_steady.csv", FINE, (2.0, 3.0), 0.1470, 10.08e-3, 0.118, sinkage_tol=0.05e-3)
+    st = _settled(
+        "small_wheel_30rpm_nonlocal_cells_steady.csv", FINE, (2.0, 3.0), 0.1470, 10.08e-3, 0.118, sinkage_tol=0.05e-3
+    )
     assert st["slip"] < 0.20 and st["sinkage"] / SMALL_R < 0.25  # prediction 1
     v, s, _ = small_drft
     assert abs(v / st["velocity"] - 1) < 0.15 and abs(s / st["sinkage"] - 1) < 0.15  # prediction 2
@@ -339,7 +395,9 @@ def test_the_small_wheel_at_1p25_mm_settles_on_drft_from_3_s(small_drft, figure_
     assert abs(v / st["velocity"] - 1) < 0.05 and abs(s / st["sinkage"] - 1) < 0.05  # (c)
     assert v / st["velocity"] - 1 == pytest.approx(0.003, abs=0.003)
     assert s / st["sinkage"] - 1 == pytest.approx(0.013, abs=0.003)
-    _repeats(figure_history, "small_wheel_30rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_30rpm_nonlocal_cells.csv", FINE)
+    _repeats(
+        figure_history, "small_wheel_30rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_30rpm_nonlocal_cells.csv", FINE
+    )
 
 
 FINE60 = "small wheel, 1.25 mm, 60 RPM, 0.45 m box"
@@ -353,16 +411,24 @@ def test_the_small_wheel_at_60_rpm_missed_in_sinkage_and_off_the_large_wheels_cu
     collapse on the large wheel (slip 0.08-0.13, sinkage 8.9-11.0 mm): missed, low. The paper's DRFT
     v -11.1 %, sinkage +138 % (expected +80 to +125 %)."""
     first = _settled("small_wheel_60rpm_nonlocal_cells_steady.csv", FINE60, (2.0, 2.5), 0.3107, 8.58e-3, 0.067)
-    st = _settled("small_wheel_60rpm_nonlocal_cells_3s_steady.csv", FINE60 + ", to 3.0 s", (2.5, 3.0), 0.3128, 8.41e-3, 0.061)
+    st = _settled(
+        "small_wheel_60rpm_nonlocal_cells_3s_steady.csv", FINE60 + ", to 3.0 s", (2.5, 3.0), 0.3128, 8.41e-3, 0.061
+    )
     v, s, slip = _drft(small_wheel_scenario(), xi, 60.0)
-    assert (v, s, slip) == (pytest.approx(0.2982, abs=2e-4), pytest.approx(9.86e-3, abs=0.02e-3), pytest.approx(0.104, abs=0.002))
+    assert (v, s, slip) == (
+        pytest.approx(0.2982, abs=2e-4),
+        pytest.approx(9.86e-3, abs=0.02e-3),
+        pytest.approx(0.104, abs=0.002),
+    )
     assert 0.12 < s / first["sinkage"] - 1 < 0.15  # the first window: inside 15 %, within 3 points of it
     assert abs(v / st["velocity"] - 1) < 0.15 and v / st["velocity"] - 1 == pytest.approx(-0.047, abs=0.003)
     assert s / st["sinkage"] - 1 > 0.15 and s / st["sinkage"] - 1 == pytest.approx(0.172, abs=0.003)
     assert st["slip"] < 0.08 and st["sinkage"] < 8.9e-3  # below the registered ranges
     assert abs(st["sinkage"] / _curve_sinkage(st["slip"], SMALL_R) - 1) < 0.10  # -7.9 %: on the slip-sinkage curve
     vp, sp, _ = _drft(small_wheel_scenario(), 0.35, 60.0)
-    assert vp / st["velocity"] - 1 == pytest.approx(-0.111, abs=0.003) and sp / st["sinkage"] - 1 == pytest.approx(1.38, abs=0.02)
+    assert vp / st["velocity"] - 1 == pytest.approx(-0.111, abs=0.003) and sp / st["sinkage"] - 1 == pytest.approx(
+        1.38, abs=0.02
+    )
 
 
 def test_the_small_wheel_at_60_rpm_eases_and_its_extension_repeats_the_run(figure_history):
@@ -375,7 +441,16 @@ def test_the_small_wheel_at_60_rpm_eases_and_its_extension_repeats_the_run(figur
     v, s = [h[label, t][0] for t in ts], [h[label, t][1] for t in ts]
     assert v == sorted(v) and s == sorted(s, reverse=True)
     assert (s[0], s[-1]) == (pytest.approx(8.67e-3, abs=0.02e-3), pytest.approx(8.38e-3, abs=0.02e-3))
-    assert _repeats(figure_history, "small_wheel_60rpm_nonlocal_cells_3s.csv", label, "small_wheel_60rpm_nonlocal_cells.csv", FINE60) == 10
+    assert (
+        _repeats(
+            figure_history,
+            "small_wheel_60rpm_nonlocal_cells_3s.csv",
+            label,
+            "small_wheel_60rpm_nonlocal_cells.csv",
+            FINE60,
+        )
+        == 10
+    )
 
 
 def test_the_small_wheel_at_60_rpm_carried_on_to_3p5_s_stays_outside_15_percent(xi, figure_history):
@@ -386,7 +461,13 @@ def test_the_small_wheel_at_60_rpm_carried_on_to_3p5_s_stays_outside_15_percent(
     assert 8.2e-3 <= st["sinkage"] <= 8.4e-3 and 0.312 <= st["velocity"] <= 0.316
     v, s, _ = _drft(small_wheel_scenario(), xi, 60.0)
     assert 0.17 <= s / st["sinkage"] - 1 <= 0.20 and abs(v / st["velocity"] - 1) < 0.15
-    _repeats(figure_history, "small_wheel_60rpm_nonlocal_cells_3p5s.csv", label, "small_wheel_60rpm_nonlocal_cells_3s.csv", FINE60 + ", to 3.0 s")
+    _repeats(
+        figure_history,
+        "small_wheel_60rpm_nonlocal_cells_3p5s.csv",
+        label,
+        "small_wheel_60rpm_nonlocal_cells_3s.csv",
+        FINE60 + ", to 3.0 s",
+    )
 
 
 def test_at_0p65_omega_0_the_small_wheel_slips_half_as_much_as_the_large_one(load_example):
@@ -434,14 +515,36 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
     mod = load_example("steady_to_sweep")
     for steadies, folder, sweep, cells in (
         (["wheel_60rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "grousered_wheel_mpm_sweep.csv", 2.5),
-        (["wheel_10rpm_nonlocal_treadmill_steady.csv", "wheel_12p5rpm_nonlocal_treadmill_steady.csv",
-          "wheel_15rpm_nonlocal_treadmill_steady.csv",
-          "wheel_20rpm_nonlocal_treadmill_steady.csv", "wheel_60rpm_nonlocal_treadmill_steady.csv"],
-         "mpm_nonlocal_blind_all", "grousered_wheel_mpm_sweep.csv", 2.5),
-        (["small_wheel_30rpm_nonlocal_treadmill_steady.csv"], "mpm_nonlocal_blind", "small_grousered_wheel_mpm_sweep.csv", 2.5),
-        (["small_wheel_30rpm_nonlocal_cells_steady.csv"], "mpm_nonlocal_fine", "small_grousered_wheel_mpm_sweep.csv", 1.25),
-        (["small_wheel_30rpm_nonlocal_cells_3p5s_steady.csv", "small_wheel_60rpm_nonlocal_cells_3s_steady.csv"],
-         "mpm_nonlocal_fine_all", "small_grousered_wheel_mpm_sweep.csv", 1.25),
+        (
+            [
+                "wheel_10rpm_nonlocal_treadmill_steady.csv",
+                "wheel_12p5rpm_nonlocal_treadmill_steady.csv",
+                "wheel_15rpm_nonlocal_treadmill_steady.csv",
+                "wheel_20rpm_nonlocal_treadmill_steady.csv",
+                "wheel_60rpm_nonlocal_treadmill_steady.csv",
+            ],
+            "mpm_nonlocal_blind_all",
+            "grousered_wheel_mpm_sweep.csv",
+            2.5,
+        ),
+        (
+            ["small_wheel_30rpm_nonlocal_treadmill_steady.csv"],
+            "mpm_nonlocal_blind",
+            "small_grousered_wheel_mpm_sweep.csv",
+            2.5,
+        ),
+        (
+            ["small_wheel_30rpm_nonlocal_cells_steady.csv"],
+            "mpm_nonlocal_fine",
+            "small_grousered_wheel_mpm_sweep.csv",
+            1.25,
+        ),
+        (
+            ["small_wheel_30rpm_nonlocal_cells_3p5s_steady.csv", "small_wheel_60rpm_nonlocal_cells_3s_steady.csv"],
+            "mpm_nonlocal_fine_all",
+            "small_grousered_wheel_mpm_sweep.csv",
+            1.25,
+        ),
     ):
         rows = mod.sweep_rows([FIG / f for f in steadies], f"{cells:g} mm", cells, 0.05)
         with (FIG / folder / sweep).open(newline="") as f:
@@ -461,7 +564,9 @@ def _switch_rows(name: str) -> dict[float, dict[str, float]]:
 
 def _drft_along(name: str, model: str) -> dict[float, tuple[float, float]]:
     with (FIG / name).open(newline="") as f:
-        return {float(r["omega_rpm"]): (float(r["fx"]), float(r["fz"])) for r in csv.DictReader(f) if r["model"] == model}
+        return {
+            float(r["omega_rpm"]): (float(r["fx"]), float(r["fz"])) for r in csv.DictReader(f) if r["model"] == model
+        }
 
 
 def test_the_10_rpm_wheel_held_at_30_rpm_gains_lift_not_thrust():
@@ -544,7 +649,14 @@ def test_the_15_rpm_wheel_held_at_45_rpm_keeps_a_lasting_lift_gap():
     assert g["t_switch"] == pytest.approx(5.5, abs=1e-3) and g["t_end"] == pytest.approx(7.29, abs=0.01) == h["t_end"]
     assert g["z"] == h["z"] == pytest.approx(0.2324, abs=1e-4)
     assert g["vx"] == pytest.approx(0.1364, abs=1e-4) and h["vx"] / g["vx"] == pytest.approx(3.0, rel=1e-9)
-    free = _settled("wheel_15rpm_nonlocal_treadmill_steady.csv", "2.5 mm, 15 RPM, treadmill in 1 m", (4.5, 5.5), 0.1364, 23.5e-3, 0.181)
+    free = _settled(
+        "wheel_15rpm_nonlocal_treadmill_steady.csv",
+        "2.5 mm, 15 RPM, treadmill in 1 m",
+        (4.5, 5.5),
+        0.1364,
+        23.5e-3,
+        0.181,
+    )
     assert g["vx"] == pytest.approx(free["velocity"], rel=1e-9)
     assert abs(g["fx"] + 4.01) < 1.5 and abs(g["fz"] - 61.75) < 6.0  # the control
     assert h["fx"] - g["fx"] == pytest.approx(-0.23, abs=0.01) and abs(h["fx"] - g["fx"]) <= 1.0
@@ -558,8 +670,13 @@ def test_the_15_rpm_wheel_held_at_45_rpm_keeps_a_lasting_lift_gap():
     assert len(win) == 12 and gaps[0] == pytest.approx(7.22, abs=0.01)
     assert gaps[0] > h["fz"] - g["fz"]  # the relaxation, registered
     assert all(5.3 < d < 6.4 for d in gaps[2:])  # then held within about 1 N
-    assert (gaps[4] + gaps[5]) / 2 == pytest.approx(h["fz"] - g["fz"], abs=0.05)  # the windows are the table's last 0.6 s
+    assert (gaps[4] + gaps[5]) / 2 == pytest.approx(
+        h["fz"] - g["fz"], abs=0.05
+    )  # the windows are the table's last 0.6 s
     xi_drft = _drft_along("drft_at_switch_15rpm.csv", "xi-DRFT (xi 1.94)")
-    assert xi_drft[45.0][1] - xi_drft[15.0][1] == pytest.approx(-0.97, abs=0.02) and abs(xi_drft[45.0][1] - xi_drft[15.0][1]) < 1.5
+    assert (
+        xi_drft[45.0][1] - xi_drft[15.0][1] == pytest.approx(-0.97, abs=0.02)
+        and abs(xi_drft[45.0][1] - xi_drft[15.0][1]) < 1.5
+    )
     mpm = _drft_along("drft_at_switch_15rpm.csv", "MPM")
     assert mpm[15.0] == (pytest.approx(g["fx"], rel=1e-9), pytest.approx(g["fz"], rel=1e-9))

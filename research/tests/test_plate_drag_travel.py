@@ -39,7 +39,9 @@ def test_excess_lambda_returns_the_lambda_of_a_pure_v2_excess():
                                               (["--flip", "2"], "--flip"), (["--cfl", "0"], "--cfl"),
                                               (["--shape", "cubic"], "--shape")])  # fmt: skip
 def test_bad_options_are_refused_before_any_run(options, message, tmp_path):
-    res = subprocess.run([sys.executable, str(SCRIPT), *options, "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [sys.executable, str(SCRIPT), *options, "--out", str(tmp_path)], capture_output=True, text=True, timeout=120
+    )
     assert res.returncode == 2 and message in res.stderr
     assert not any(tmp_path.iterdir())
 

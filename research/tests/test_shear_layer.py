@@ -158,7 +158,9 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     deficit = [lift("smooth rim, nonlocal d 3 mm", h) - lift("grousered, nonlocal d 3 mm", h) for h in (5.0, 2.5, 1.25)]
     assert deficit[0] > 1.4 * deficit[1] > 1.4 * 1.4 * deficit[2] > 0  # 22.8, 14.4, 7.7 N
     thick = "grousered (12 mm grousers), nonlocal d 6 mm"  # grousers resolved by twice the cells
-    six_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift("grousered, nonlocal d 6 mm", h) for h in (5.0, 2.5, 1.25)]
+    six_deficit = [
+        lift("smooth rim, nonlocal d 6 mm", h) - lift("grousered, nonlocal d 6 mm", h) for h in (5.0, 2.5, 1.25)
+    ]
     thick_deficit = [lift("smooth rim, nonlocal d 6 mm", h) - lift(thick, h) for h in (5.0, 2.5, 1.25)]
     assert all(0 < t < d for t, d in zip(thick_deficit, six_deficit))  # 15.9 / 7.8 / 2.7 against 24.7 / 18.1 / 10.8 N
 
@@ -170,7 +172,9 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     assert xi_cells > 3.0  # the 6 mm grains' layer is resolved at 2.5 mm ...
     assert lift("grousered, nonlocal d 6 mm", 1.25) / lift("grousered, nonlocal d 6 mm", 2.5) - 1.0 > 0.1  # ... +18 %
     # half the time step (CFL 0.15 instead of 0.3) at 2.5 mm moves the lift by 2 % at most
-    assert lift("grousered, nonlocal d 3 mm, CFL 0.15", 2.5) == pytest.approx(lift("grousered, nonlocal d 3 mm", 2.5), rel=0.025)
+    assert lift("grousered, nonlocal d 3 mm, CFL 0.15", 2.5) == pytest.approx(
+        lift("grousered, nonlocal d 3 mm", 2.5), rel=0.025
+    )
     assert lift("grousered, CFL 0.15", 2.5) == pytest.approx(lift("grousered", 2.5), rel=0.01)
 
 
@@ -181,8 +185,11 @@ def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
     deficit falling to 0.53-0.73) missed: the wheel converges below the smooth rim."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))
     lift = _column(rows, "fz")
-    box, wide, smooth = ("grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm", "grousered, nonlocal d 6 mm",
-                         "smooth rim, nonlocal d 6 mm")
+    box, wide, smooth = (
+        "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm",
+        "grousered, nonlocal d 6 mm",
+        "smooth rim, nonlocal d 6 mm",
+    )
     assert lift(box, 1.25) == pytest.approx(lift(wide, 1.25), rel=0.002)  # 50.29 against 50.27 N
     rise = lift(box, 0.625) / lift(box, 1.25) - 1.0
     assert 0.0 < rise < 0.03  # +2.1 %
@@ -200,6 +207,9 @@ def test_at_0625_mm_the_smooth_rim_holds_its_lift():
     at equal cells stays at 9-10.5 N."""
     rows = _keyed(_rows(FIG / "shear_layer.csv"))
     lift = _column(rows, "fz")
-    smooth, grousered = "smooth rim, 0.45 m x 0.4 m box, nonlocal d 6 mm", "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm"
+    smooth, grousered = (
+        "smooth rim, 0.45 m x 0.4 m box, nonlocal d 6 mm",
+        "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm",
+    )
     assert lift(smooth, 0.625) == pytest.approx(lift("smooth rim, nonlocal d 6 mm", 1.25), rel=0.01)
     assert 9.0 < lift(smooth, 0.625) - lift(grousered, 0.625) < 10.5

@@ -50,8 +50,11 @@ def test_bands_out_of_order_or_not_positive_are_refused(script, similar, not_sim
 def test_windows_that_are_not_the_reference_scaled_are_refused(script):
     """The reference's own 0.5 s windows are not its 0.3536 s twin's: the script names the --every to use."""
     rows = script.read_windows(REFERENCE[0], REFERENCE[1])
-    assert len(script.pair_windows(rows, [dict(r, t_start=r["t_start"] * 0.5**0.5, t_end=r["t_end"] * 0.5**0.5) for r in rows],
-                                   0.5**0.5)) == len(rows)
+    assert len(
+        script.pair_windows(
+            rows, [dict(r, t_start=r["t_start"] * 0.5**0.5, t_end=r["t_end"] * 0.5**0.5) for r in rows], 0.5**0.5
+        )
+    ) == len(rows)
     with pytest.raises(SystemExit, match="--every 0.35355339"):
         script.pair_windows(rows, rows, 0.5**0.5)
 
@@ -120,12 +123,16 @@ SET_UP_MADE_IT = (0.01, 0.005)  # registered: |d slip|, |d sinkage / r| over 2.4
 
 @pytest.fixture(scope="module")
 def scaled(script):
-    return _against_reference(script, "small_wheel_42rpm_twin_scaled.csv", "small wheel, 2.5 mm, 3 mm grains, half box, set-up scaled")
+    return _against_reference(
+        script, "small_wheel_42rpm_twin_scaled.csv", "small wheel, 2.5 mm, 3 mm grains, half box, set-up scaled"
+    )
 
 
 @pytest.fixture(scope="module")
 def e_only(script):
-    return _against_reference(script, "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled")
+    return _against_reference(
+        script, "small_wheel_42rpm_twin_E.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E scaled"
+    )
 
 
 def test_with_its_set_up_scaled_the_twin_is_the_reference_replica(scaled):
@@ -169,8 +176,11 @@ def test_the_stiffness_not_the_time_step(script, twin, e_only):
     """Outcome (registered before its run): the E-only twin at the first twin's dt
     (C = 0.2121) slips 0.371 at sinkage / r 0.316 over 2.475-3.182 s: within the registered 0.01
     and 0.005 of the E-only twin (0.376, 0.319), 0.034 and 0.019 from the first twin (0.405, 0.335)."""
-    _, res = _against_reference(script, "small_wheel_42rpm_twin_E_dt.csv",
-                                "small wheel, 2.5 mm, 3 mm grains, half box, E scaled, first twin's dt")
+    _, res = _against_reference(
+        script,
+        "small_wheel_42rpm_twin_E_dt.csv",
+        "small wheel, 2.5 mm, 3 mm grains, half box, E scaled, first twin's dt",
+    )
     tw, first = res["twin"], twin[1]["twin"]
     assert tw["windows"] == 2 and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.371, abs=0.001), pytest.approx(0.316, abs=0.001))
@@ -183,12 +193,16 @@ def test_a_softer_bed_slips_more_too(script, e_only, twin):
     (E 0.25 MPa) the twin slips 0.399 at sinkage / r 0.335 over 2.475-3.182 s: above the registered
     0.357 (not log-linear), so both halving and doubling the stiffness add slip (+0.022, +0.029),
     and the soft twin is still easing over its last windows, like the first twin."""
-    rows, res = _against_reference(script, "small_wheel_42rpm_twin_E_soft.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")
+    rows, res = _against_reference(
+        script, "small_wheel_42rpm_twin_E_soft.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa"
+    )
     tw = res["twin"]
     assert tw["windows"] == 2
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.399, abs=0.001), pytest.approx(0.335, abs=0.001))
     assert tw["slip"] > 0.357  # the registered "fades on the soft side" bound
-    assert tw["slip"] - e_only[1]["twin"]["slip"] > 0.015 and twin[1]["twin"]["slip"] - e_only[1]["twin"]["slip"] > 0.015
+    assert (
+        tw["slip"] - e_only[1]["twin"]["slip"] > 0.015 and twin[1]["twin"]["slip"] - e_only[1]["twin"]["slip"] > 0.015
+    )
     late = [r["slip_twin"] for r in rows if r["t_start"] >= 2.0 - 1e-6 and r["t_end"] <= 4.5 + 1e-6]  # whole windows
     assert late[0] - late[-1] > 0.03  # still easing from 2.0 to 4.5 s (reference time)
 
@@ -203,7 +217,9 @@ def _late(script, name: str, label: str) -> tuple[list[dict], dict]:
 
 @pytest.fixture(scope="module")
 def late_soft(script):
-    return _late(script, "small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa")
+    return _late(
+        script, "small_wheel_42rpm_twin_E_soft_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box, E 0.25 MPa"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -252,7 +268,9 @@ def test_the_e_scaled_twin_stays_a_replica_to_8p5_s_and_e_leaves_no_steady_effec
     late = [r for r in rows if r["t_start"] >= 4.5 - 1e-6]
     assert max(abs(r["slip_twin"] - r["slip_reference"]) for r in late) < 0.007
     for other in (late_first[1]["twin"], late_soft[1]["twin"]):
-        assert abs(other["slip"] - tw["slip"]) <= 0.0035 and abs(other["sinkage_over_r"] - tw["sinkage_over_r"]) <= 0.0055
+        assert (
+            abs(other["slip"] - tw["slip"]) <= 0.0035 and abs(other["sinkage_over_r"] - tw["sinkage_over_r"]) <= 0.0055
+        )
 
 
 def test_the_6_mm_twin_carried_to_6_s_holds_a_steady_grain_length_effect(script, late_first):
@@ -260,8 +278,11 @@ def test_the_6_mm_twin_carried_to_6_s_holds_a_steady_grain_length_effect(script,
     twin slips 0.248 at sinkage / r 0.246 against the 3 mm first twin's 0.361 and 0.310: 0.113 and
     0.064 below, past the registered 0.06 and 0.03, so d / r is a steady size effect; the 6 mm
     twin has held 0.235-0.261 over the reference's 3.5-8.5 s while the 3 mm twin eased."""
-    rows, res = script.analyse(REFERENCE, (FIG / "small_wheel_42rpm_twin_d6_6s.csv",
-                                           "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264), (6.0, 8.5))
+    rows, res = script.analyse(
+        REFERENCE,
+        (FIG / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264),
+        (6.0, 8.5),
+    )
     tw, first = res["twin"], late_first[1]["twin"]
     assert tw["windows"] == 5 and rows[-1]["t_end"] == pytest.approx(8.5, abs=1e-6) and abs(tw["drift"]) < 0.05
     assert (tw["slip"], tw["sinkage_over_r"]) == (pytest.approx(0.248, abs=0.001), pytest.approx(0.246, abs=0.001))

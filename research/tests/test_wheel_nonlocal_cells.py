@@ -53,6 +53,7 @@ def test_the_registered_1p25_mm_outcome_met_in_one_window_of_three(history):
 def test_at_90_rpm_the_nonlocal_wheel_climbs_where_the_papers_law_digs_in(figure_history):
     """2.5 mm cells, band 0, over 0.5-1.5 s: with the nonlocal law v rises and the sinkage falls in
     every 0.25 s window; with the paper's law (wheel_band0_settling.csv) v falls and the wheel sinks."""
+
     def series(name, label):
         h = figure_history(name)
         v, s = zip(*(h[(label, t)] for t in h.windows(label, t_from=0.5, t_to=1.5)))

@@ -119,8 +119,10 @@ def test_the_nonlocal_wheels_sit_on_the_slip_sinkage_curve_of_the_papers_law():
 
     c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
     r = 0.10604  # m, the Table S1 wheel's outer radius (grouser tips)
-    steady = {**_steady("wheel_30rpm_nonlocal_treadmill_steady.csv"),
-              "90 RPM": _steady("wheel_90rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 1.5 s"]}
+    steady = {
+        **_steady("wheel_30rpm_nonlocal_treadmill_steady.csv"),
+        "90 RPM": _steady("wheel_90rpm_nonlocal_treadmill_steady.csv")["2.5 mm, treadmill in 1 m from 1.5 s"],
+    }
     misses = {}
     for label in (LONG, *TREADMILLS, FINE, "90 RPM"):
         st = steady[label]
@@ -142,7 +144,9 @@ def test_the_registered_1p25_mm_outcome_on_the_treadmill(history):
     assert history.windows(fine, 2.0) == [2.0, 2.5]
     (v5, s5), (v2, s2), (v1, s1) = (history[(lab, 2.0)] for lab in (LONG, FINE, fine))
     assert 0.281 <= v1 <= 0.299 and 19.2e-3 <= s1 <= 23.2e-3
-    assert (v1 - v2) / (v2 - v5) == pytest.approx(0.22, abs=0.005) and (s1 - s2) / (s2 - s5) == pytest.approx(0.18, abs=0.005)
+    assert (v1 - v2) / (v2 - v5) == pytest.approx(0.22, abs=0.005) and (s1 - s2) / (s2 - s5) == pytest.approx(
+        0.18, abs=0.005
+    )
     (v5, s5), (v2, s2), (v1, s1) = (history[(lab, 2.5)] for lab in (LONG, FINE, fine))
     assert 0.291 - 5e-5 < v1 < 0.291 and 17.3e-3 <= s1 <= 21.5e-3  # v just below the written edge
     assert 0.150 <= (v1 - v2) / (v2 - v5) < 0.151  # and just inside the ratio

@@ -99,12 +99,12 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
-    from intrusim.errors import InputError, RunFailed
     from intrusim.analysis.calibration import CalibrationResult, calibrate, compare, load_reference
     from intrusim.analysis.steady import SteadyState, run_steady, steady_state
     from intrusim.analysis.sweep import SweepResult, sweep_omega
     from intrusim.bodies import Drive, IntegratorSettings, RigidBody, Trajectory, simulate
     from intrusim.demo import run_demo
+    from intrusim.errors import InputError, RunFailed
     from intrusim.figures import FIGURES
     from intrusim.forces import ForceModel, ResistiveForceModel, make_force_model
     from intrusim.geometry import (

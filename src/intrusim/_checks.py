@@ -49,7 +49,7 @@ def positive_int(name: str, value: Any) -> int:
 def finite_array(name: str, value: Any, shape_tail: tuple[int, ...] = ()) -> np.ndarray:
     """A float64 array of finite numbers whose trailing dimensions are ``shape_tail``."""
     a = np.asarray(value, dtype=float)
-    if shape_tail and a.shape[a.ndim - len(shape_tail):] != shape_tail:
+    if shape_tail and a.shape[a.ndim - len(shape_tail) :] != shape_tail:
         raise InputError(f"{name} must have trailing shape {shape_tail}, got {a.shape}")
     if not np.all(np.isfinite(a)):
         raise InputError(f"{name} contains non-finite values")

@@ -206,7 +206,9 @@ def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rh
     src, n = geo, n_g
     if abs(vx - vx0) <= v_slack and abs(vz - vz0) <= v_slack:  # only the elements that can lead
         src, n = lead, n_l
-    _element_forces(src, n, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh if mode >= 1 else 0.0, thr, p_mid)
+    _element_forces(
+        src, n, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh if mode >= 1 else 0.0, thr, p_mid
+    )
     return _ordered_sums(work, n)
 
 
@@ -227,9 +229,13 @@ def _step_force(spec, frame, work, k, z, th, vx, vz, om):
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
     mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     if z >= frame[4] and fwd == frame[5]:
-        fx, fz, m = _force_rotated(frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh))
+        fx, fz, m = _force_rotated(
+            frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh)
+        )
     else:
-        fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om)  # x: unused
+        fx, fz, m = _force(
+            mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om
+        )  # x: unused
     if bs > 0.0:
         bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
         fx, m = fx + bx, m + bm

@@ -410,7 +410,9 @@ def simulate(
         if not (math.isfinite(x) and math.isfinite(z) and math.isfinite(vx) and math.isfinite(vz)):
             raise _fail("non-finite state", ti, s)
         if math.hypot(vx, vz) > s.max_speed:
-            raise _fail(f"speed {math.hypot(vx, vz):.3g} m/s exceeds max_speed = {s.max_speed:g} m/s (divergence)", ti, s)
+            raise _fail(
+                f"speed {math.hypot(vx, vz):.3g} m/s exceeds max_speed = {s.max_speed:g} m/s (divergence)", ti, s
+            )
         if z < surface - s.max_depth:
             raise _fail(
                 f"body sank {surface - z:.3g} m below the surface (max_depth = {s.max_depth:g} m): the medium "
@@ -490,4 +492,13 @@ def _compiled_failure(status: int, info: np.ndarray, s: IntegratorSettings) -> I
     return IntegratorError(f"compiled integrator failed with unknown status {status}")  # pragma: no cover
 
 
-__all__ = ["Drive", "RigidBody", "IntegratorSettings", "IntegratorError", "NewtonNotConverged", "Trajectory", "simulate", "force_function"]
+__all__ = [
+    "Drive",
+    "RigidBody",
+    "IntegratorSettings",
+    "IntegratorError",
+    "NewtonNotConverged",
+    "Trajectory",
+    "simulate",
+    "force_function",
+]

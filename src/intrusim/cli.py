@@ -17,8 +17,9 @@ from intrusim.geometry import grousered_wheel
 from intrusim.kinematics import BodyState
 from intrusim.params import RPM, table_s1
 
-app = typer.Typer(help="intrusim: granular intrusion with MPM, RFT and Dynamic RFT.", no_args_is_help=True,
-                  cls=guarded_group())
+app = typer.Typer(
+    help="intrusim: granular intrusion with MPM, RFT and Dynamic RFT.", no_args_is_help=True, cls=guarded_group()
+)
 
 
 def _show_version(value: bool) -> None:
@@ -31,7 +32,9 @@ def _show_version(value: bool) -> None:
 def main(
     ctx: typer.Context,
     debug: bool = typer.Option(False, "--debug", help="On an error show the traceback, not one line."),
-    version: bool = typer.Option(False, "--version", callback=_show_version, is_eager=True, help="Print the version and exit."),
+    version: bool = typer.Option(
+        False, "--version", callback=_show_version, is_eager=True, help="Print the version and exit."
+    ),
 ) -> None:
     """Granular intrusion toolkit (Agarwal, Karsai, Goldman, Kamrin 2021).
 
@@ -67,7 +70,10 @@ def forces(
         wheel = grousered_wheel(grouser_height_scale=1 / 3)  # grouser shadowing (paper, Methods)
         omega = omega_rpm * RPM
         v = (1 - slip) * wheel.radius * omega
-        models = {k: make_force_model(k, wheel, lam=lam, structural="wheel-rear-half") for k in ("rft", "drft-inertial", "drft")}
+        models = {
+            k: make_force_model(k, wheel, lam=lam, structural="wheel-rear-half")
+            for k in ("rft", "drft-inertial", "drft")
+        }
     except (InputError, ValueError) as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
@@ -96,7 +102,10 @@ def steady(
     model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
+    rft_coefficients: Optional[Path] = typer.Option(
+        None,
+        help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1).",
+    ),
 ) -> None:
     """Steady-state speed, sinkage and slip of a driven wheel or runner."""
     from intrusim.analysis.steady import NoContactError, run_steady
@@ -112,7 +121,9 @@ def steady(
         f"{scn.name}, {model} (lambda = {st.meta['lam']:g}), omega = {omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:.3g} ms, "
         f"window {st.window[0]:.2f}-{st.window[1]:.2f} s ({st.revolutions} rev){'' if st.settled else ', NOT SETTLED'}"
     )
-    typer.echo(f"{'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | {'v/sqrt(gl)':>10} | {'sinkage/l':>9} | {'omega/omega0':>12}")
+    typer.echo(
+        f"{'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | {'v/sqrt(gl)':>10} | {'sinkage/l':>9} | {'omega/omega0':>12}"
+    )
     typer.echo(
         f"{st.velocity:8.4f} | {st.sinkage * 1e3:10.2f} | {st.slip:6.3f} | {st.velocity / scn.velocity_scale:10.4f} | "
         f"{st.sinkage / scn.length_scale:9.4f} | {st.omega / scn.omega_0:12.3f}"
@@ -145,7 +156,9 @@ def _parse_rpm(text: str) -> list[float]:
         if ":" in text:
             a, b, c = (float(x) for x in text.split(":"))
             if not all(math.isfinite(x) for x in (a, b, c)) or c <= 0 or b < a:
-                raise InputError(f"omega range start:stop:step needs finite numbers, step > 0 and stop >= start, got {text!r}")
+                raise InputError(
+                    f"omega range start:stop:step needs finite numbers, step > 0 and stop >= start, got {text!r}"
+                )
             if (b - a) / c + 1 > MAX_POINTS:
                 raise InputError(f"omega range {text!r} has {(b - a) / c + 1:.3g} points, more than {MAX_POINTS}")
             return [float(w) for w in np.arange(a, b + 0.5 * c, c)]
@@ -168,7 +181,10 @@ def sweep(
     parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
     scheduler_address: Optional[str] = typer.Option(None, help="Existing Dask scheduler (default: a LocalCluster)."),
     csv: Optional[Path] = typer.Option(None, help="Also write the records to this CSV file."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
+    rft_coefficients: Optional[Path] = typer.Option(
+        None,
+        help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1).",
+    ),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
     from intrusim.analysis.sweep import sweep_omega
@@ -176,7 +192,9 @@ def sweep(
 
     try:
         scn = with_rft_table(load_scenario(scenario), rft_coefficients)
-        res = sweep_omega(scn, model, _parse_rpm(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address)
+        res = sweep_omega(
+            scn, model, _parse_rpm(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
+        )
     except InputError as err:
         _fail(err)
     typer.echo(f"{scn.name}, {model}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
@@ -189,13 +207,18 @@ def sweep(
 
 @app.command()
 def reproduce(
-    figure: str = typer.Argument(..., help="fig3ab, fig3cd, fig4b, fig5ab, fig5c, fig5d, fig6a, fig6a-mpm, fig7bc, figs1 or figs3b."),
+    figure: str = typer.Argument(
+        ..., help="fig3ab, fig3cd, fig4b, fig5ab, fig5c, fig5d, fig6a, fig6a-mpm, fig7bc, figs1 or figs3b."
+    ),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG and CSV."),
     quick: bool = typer.Option(False, help="Coarse, fast version."),
     parallel: bool = typer.Option(True, help="Run the omega sweeps on a Dask cluster."),
     mpm: bool = typer.Option(False, help="Add the MPM points to fig5ab, fig7bc, figs1 (long: runs MPM sweeps)."),
     runs: Path = typer.Option(None, help="Folder of MPM run folders (default runs/mpm or runs/mpm-quick)."),
-    name: Optional[str] = typer.Option(None, help="File name stem instead of the figure's (e.g. fig7bc_band0: fig7bc_band0.png, fig7bc_band0_vs_mpm.csv)."),
+    name: Optional[str] = typer.Option(
+        None,
+        help="File name stem instead of the figure's (e.g. fig7bc_band0: fig7bc_band0.png, fig7bc_band0_vs_mpm.csv).",
+    ),
 ) -> None:
     """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
 
@@ -211,7 +234,9 @@ def reproduce(
     if name is None:
         paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
     else:
-        paths = _renamed_figure(FIGURES[figure], figure.replace("-", "_"), name, out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
+        paths = _renamed_figure(
+            FIGURES[figure], figure.replace("-", "_"), name, out, quick=quick, parallel=parallel, runs=runs, mpm=mpm
+        )
     for p in paths:
         typer.echo(str(p))
 
@@ -226,7 +251,7 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
     with tempfile.TemporaryDirectory(dir=out, prefix=".reproduce-") as tmp:
         moved = []
         for p in make(Path(tmp), **kwargs):
-            target = out / (name + p.name[len(stem):] if p.name.startswith(stem) else p.name)
+            target = out / (name + p.name[len(stem) :] if p.name.startswith(stem) else p.name)
             shutil.move(str(p), target)
             moved.append(target)
     return moved
@@ -236,24 +261,53 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
 def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
     mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
-    params: str = typer.Option("xi,psi", help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper)."),
-    structural: Optional[str] = typer.Option(None, help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none; also for the --check scenarios that have one (a runner keeps none)."),
-    mpm_push: bool = typer.Option(True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."),
-    psi_from_dh: str = typer.Option("none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."),
-    check: list[str] = typer.Option([], help="Transfer check NAME=CSV (a scenario and its MPM sweep), fitted values reused; repeatable."),
+    params: str = typer.Option(
+        "xi,psi",
+        help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper).",
+    ),
+    structural: Optional[str] = typer.Option(
+        None,
+        help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none; also for the --check scenarios that have one (a runner keeps none).",
+    ),
+    mpm_push: bool = typer.Option(
+        True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."
+    ),
+    psi_from_dh: str = typer.Option(
+        "none", help="Set psi from the MPM rear surface drop before fitting: none, linear or affine."
+    ),
+    check: list[str] = typer.Option(
+        [], help="Transfer check NAME=CSV (a scenario and its MPM sweep), fitted values reused; repeatable."
+    ),
     model: str = typer.Option("drft", help="Force model: drft (rft or drft-inertial ignore psi)."),
-    settled_only: bool = typer.Option(False, "--settled-only", help="Fit only the MPM runs that settled (velocity drift < 5 %; the CSV's settled column)."),
-    starts: int = typer.Option(8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."),
+    settled_only: bool = typer.Option(
+        False,
+        "--settled-only",
+        help="Fit only the MPM runs that settled (velocity drift < 5 %; the CSV's settled column).",
+    ),
+    starts: int = typer.Option(
+        8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."
+    ),
     out: Path = typer.Option(Path("figures"), help="Output folder for the PNG, CSV and JSON."),
     name: Optional[str] = typer.Option(None, help="File name stem (default calibration_SCENARIO)."),
-    rft_coefficients: Optional[Path] = typer.Option(None, help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1)."),
-    leave_one_out: bool = typer.Option(False, "--leave-one-out", help="Also refit without each MPM omega in turn and predict it (cross-validation; N more fits)."),
-    workers: int = typer.Option(1, min=1, help="Processes for the local fits (--starts) and the leave-one-out folds: a local Dask cluster when > 1."),
+    rft_coefficients: Optional[Path] = typer.Option(
+        None,
+        help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1).",
+    ),
+    leave_one_out: bool = typer.Option(
+        False,
+        "--leave-one-out",
+        help="Also refit without each MPM omega in turn and predict it (cross-validation; N more fits).",
+    ),
+    workers: int = typer.Option(
+        1,
+        min=1,
+        help="Processes for the local fits (--starts) and the leave-one-out folds: a local Dask cluster when > 1.",
+    ),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
     from intrusim.analysis.calibration import calibrate as fit
-    from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
+    from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.figures.calibration import Check, psi_from_surface_drop, write_calibration
     from intrusim.scenarios import load_scenario
 
@@ -267,6 +321,7 @@ def calibrate(
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
         if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
             raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
+
         def prepared(name: str, check: bool = False):
             """A scenario with this command's choices: the RFT table, the push, and --structural
             (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
@@ -282,7 +337,9 @@ def calibrate(
             psi = psi_from_surface_drop(start, ref)
             if psi is None:
                 raise InputError(f"{mpm}: fewer than 2 runs with a measured rear surface drop")
-            slope, offset = (psi["linear_slope"], 0.0) if psi_from_dh == "linear" else (psi["affine_slope"], psi["affine_offset"])
+            slope, offset = (
+                (psi["linear_slope"], 0.0) if psi_from_dh == "linear" else (psi["affine_slope"], psi["affine_offset"])
+            )
             psi_values = {"psi": slope, "psi_offset": offset}
             start = with_parameters(start, psi_values)
         checks = []
@@ -291,15 +348,25 @@ def calibrate(
             if not sep:
                 raise InputError(f"--check must be NAME=CSV, got {item!r}")
             if any(c.label == label.strip() for c in checks):  # the comparisons are keyed by NAME: one would be lost
-                raise InputError(f"--check {label.strip()} given twice: put its omegas in one CSV (research/steady_to_sweep.py takes several files)")
+                raise InputError(
+                    f"--check {label.strip()} given twice: put its omegas in one CSV (research/steady_to_sweep.py takes several files)"
+                )
             s = prepared(label.strip(), check=True)
             s = with_parameters(s, psi_values) if psi_values else s
             try:  # a bad check is refused before the fit, not after it
-                checks.append(Check(label.strip(), s, _unique_omegas(check_reference(load_reference(path.strip(), s.name)), path.strip())))
+                checks.append(
+                    Check(
+                        label.strip(),
+                        s,
+                        _unique_omegas(check_reference(load_reference(path.strip(), s.name)), path.strip()),
+                    )
+                )
             except ValueError as err:
                 raise InputError(f"--check {label.strip()}: {err}") from None
         res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
-        typer.echo(f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})")
+        typer.echo(
+            f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})"
+        )
         _echo_comparison(res.comparison)
         loo = None
         if leave_one_out:
@@ -315,9 +382,14 @@ def calibrate(
                         "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
     if loo is not None:
         meta["leave_one_out"] = loo.summary()
-    paths, check_cmps = write_calibration(out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta)
+    paths, check_cmps = write_calibration(
+        out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta
+    )
     for label, c in check_cmps.items():
-        rows = ", ".join(f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}" for w, dv, ds in zip(c.omega_rpm, c.rel_error_velocity, c.rel_error_sinkage))
+        rows = ", ".join(
+            f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}"
+            for w, dv, ds in zip(c.omega_rpm, c.rel_error_velocity, c.rel_error_sinkage)
+        )
         typer.echo(f"check {label} ({c.name}, fitted values reused): {rows}; max |relative error| velocity "
                    f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
@@ -329,8 +401,10 @@ def _unique_omegas(ref: Any, source: Any) -> Any:
     w = [float(x) for x in ref.omega_rpm]
     twice = sorted({x for x in w if w.count(x) > 1})
     if twice:
-        raise InputError(f"{source}: omega_rpm {', '.join(f'{x:g}' for x in twice)} appears more than once "
-                         "(one run per omega: gather them with `intrusim mpm collect`)")
+        raise InputError(
+            f"{source}: omega_rpm {', '.join(f'{x:g}' for x in twice)} appears more than once "
+            "(one run per omega: gather them with `intrusim mpm collect`)"
+        )
     return ref
 
 
@@ -341,11 +415,23 @@ def _pct(x: float, sign: str = "+") -> str:
 
 def _echo_comparison(c: Any) -> None:
     """A calibration's per-omega table (an ``analysis.calibration.Comparison``) on the terminal."""
-    typer.echo(f"{'omega RPM':>9} | {'v MPM':>7} | {'v DRFT':>7} | {'dv':>6} | {'s MPM mm':>8} | {'s DRFT mm':>9} | {'ds':>6}")
-    for row in zip(c.omega_rpm, c.velocity_ref, c.velocity_model, c.rel_error_velocity, c.sinkage_ref, c.sinkage_model, c.rel_error_sinkage):
+    typer.echo(
+        f"{'omega RPM':>9} | {'v MPM':>7} | {'v DRFT':>7} | {'dv':>6} | {'s MPM mm':>8} | {'s DRFT mm':>9} | {'ds':>6}"
+    )
+    for row in zip(
+        c.omega_rpm,
+        c.velocity_ref,
+        c.velocity_model,
+        c.rel_error_velocity,
+        c.sinkage_ref,
+        c.sinkage_model,
+        c.rel_error_sinkage,
+    ):
         w, v0, v1, dv, s0, s1, ds = row
         typer.echo(f"{w:9.4g} | {v0:7.4f} | {v1:7.4f} | {dv:+6.1%} | {s0 * 1e3:8.2f} | {s1 * 1e3:9.2f} | {ds:+6.1%}")
-    typer.echo(f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}")
+    typer.echo(
+        f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}"
+    )
 
 
 @app.command()

@@ -10,8 +10,9 @@ import typer
 from intrusim._checks import InputError
 from intrusim.errors import guarded_group, validation_message
 
-mpm_app = typer.Typer(help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True,
-                      cls=guarded_group())
+mpm_app = typer.Typer(
+    help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True, cls=guarded_group()
+)
 
 SCENARIOS = ("wheel", "small-wheel", "runner")
 
@@ -33,20 +34,41 @@ def _validated(model, **update):
         raise InputError(validation_message(err)) from None
 
 
-def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | None, threads: int | None,
-          cell_size: float | None = None, contact_band: float | None = None, length: float | None = None,
-          t_max: float | None = None, mu_i_diameter: float | None = None, fluidity_diameter: float | None = None,
-          treadmill: str | None = None, arch: str | None = None, flip: float | None = None,
-          shape: str | None = None, drop_escaped: bool = False, max_steps: int | None = None):
+def _case(
+    scenario: str,
+    quick: bool,
+    out: Path | None,
+    frames_every: float | None,
+    threads: int | None,
+    cell_size: float | None = None,
+    contact_band: float | None = None,
+    length: float | None = None,
+    t_max: float | None = None,
+    mu_i_diameter: float | None = None,
+    fluidity_diameter: float | None = None,
+    treadmill: str | None = None,
+    arch: str | None = None,
+    flip: float | None = None,
+    shape: str | None = None,
+    drop_escaped: bool = False,
+    max_steps: int | None = None,
+):
     """The MPM locomotion case of the command's flags: every flag goes through the settings'
     validation (MPMSettings, as a file's), so a bad value is refused before any compute."""
     from intrusim.mpm.config import SHAPES, FluidityConfig, MuIConfig
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
 
-    for name, value in (("frames_every", frames_every), ("cell_size", cell_size), ("contact_band", contact_band),
-                        ("length", length), ("t_max", t_max), ("mu_i_diameter", mu_i_diameter),
-                        ("fluidity_diameter", fluidity_diameter), ("flip", flip)):
+    for name, value in (
+        ("frames_every", frames_every),
+        ("cell_size", cell_size),
+        ("contact_band", contact_band),
+        ("length", length),
+        ("t_max", t_max),
+        ("mu_i_diameter", mu_i_diameter),
+        ("fluidity_diameter", fluidity_diameter),
+        ("flip", flip),
+    ):
         _finite(name, value)
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
     settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
@@ -62,7 +84,9 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
     domain, cells = settings.domain, settings.cells
     if length is not None:  # same cells, a shorter or longer bed
         if not length > settings.start_x + settings.wall_margin:
-            raise InputError(f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}")
+            raise InputError(
+                f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}"
+            )
         domain, cells = (float(length), domain[1]), (max(1, round(length / settings.h)), cells[1])
     if cell_size is not None:
         if not cell_size > 0:
@@ -86,7 +110,9 @@ def _case(scenario: str, quick: bool, out: Path | None, frames_every: float | No
         update["drop_escaped"] = True
     if t_max is not None:
         if not t_max > settings.ramp_time + settings.settle_time:
-            raise InputError(f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}")
+            raise InputError(
+                f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}"
+            )
         update["t_max"] = float(t_max)
     if mu_i_diameter is not None:
         if not mu_i_diameter > 0:
@@ -127,29 +153,82 @@ def _rpms(text: str) -> list[float]:
 
 @mpm_app.command("steady")
 def steady(
-    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."),
+    scenario: str = typer.Option(
+        "wheel",
+        help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body).",
+    ),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (forward rolling)."),
     quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
     out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(None, help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md)."),
-    length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
-    t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
+    contact_band: float = typer.Option(
+        None,
+        help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md).",
+    ),
+    length: float = typer.Option(
+        None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."
+    ),
+    t_max: float = typer.Option(
+        None,
+        help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint.",
+    ),
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
-    mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
-    fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
-    treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
-    arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
-    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code)."),
-    shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
-    drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
-    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
+    mu_i_diameter: float = typer.Option(
+        None,
+        help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction).",
+    ),
+    fluidity_diameter: float = typer.Option(
+        None,
+        help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law).",
+    ),
+    treadmill: str = typer.Option(
+        None,
+        help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md).",
+    ),
+    arch: str = typer.Option(
+        None,
+        help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning.",
+    ),
+    flip: float = typer.Option(
+        None,
+        help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code).",
+    ),
+    shape: str = typer.Option(
+        None,
+        help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md).",
+    ),
+    drop_escaped: bool = typer.Option(
+        False,
+        help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far).",
+    ),
+    max_steps: int = typer.Option(
+        None,
+        "--max-steps",
+        help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
+    ),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
-                     drop_escaped, max_steps)
+        case = _case(
+            scenario,
+            quick,
+            out,
+            frames_every,
+            threads,
+            cell_size,
+            contact_band,
+            length,
+            t_max,
+            mu_i_diameter,
+            fluidity_diameter,
+            treadmill,
+            arch,
+            flip,
+            shape,
+            drop_escaped,
+            max_steps,
+        )
         _finite("omega_rpm", omega_rpm)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
@@ -185,7 +264,10 @@ def steady(
 
 @mpm_app.command("sweep")
 def sweep(
-    scenario: str = typer.Option("wheel", help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."),
+    scenario: str = typer.Option(
+        "wheel",
+        help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body).",
+    ),
     omega_rpm: str = typer.Option("10,20,30,40,50,60,70,80,90", help="Comma-separated RPM list."),
     quick: bool = typer.Option(False, help="Coarse grid, short runs."),
     out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),
@@ -194,25 +276,59 @@ def sweep(
     serial: bool = typer.Option(False, help="Run the points one after another in this process."),
     frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
     cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(None, help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md)."),
-    length: float = typer.Option(None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."),
-    t_max: float = typer.Option(None, help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint."),
-    mu_i_diameter: float = typer.Option(None, help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction)."),
-    fluidity_diameter: float = typer.Option(None, help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law)."),
-    treadmill: str = typer.Option(None, help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md)."),
-    arch: str = typer.Option(None, help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning."),
-    flip: float = typer.Option(None, help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code)."),
-    shape: str = typer.Option(None, help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md)."),
-    drop_escaped: bool = typer.Option(False, help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far)."),
-    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
-    oversubscribe: bool = typer.Option(False, "--oversubscribe", help="Allow more --workers than this machine's cores."),
+    contact_band: float = typer.Option(
+        None,
+        help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md).",
+    ),
+    length: float = typer.Option(
+        None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."
+    ),
+    t_max: float = typer.Option(
+        None,
+        help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint.",
+    ),
+    mu_i_diameter: float = typer.Option(
+        None,
+        help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction).",
+    ),
+    fluidity_diameter: float = typer.Option(
+        None,
+        help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law).",
+    ),
+    treadmill: str = typer.Option(
+        None,
+        help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md).",
+    ),
+    arch: str = typer.Option(
+        None,
+        help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning.",
+    ),
+    flip: float = typer.Option(
+        None,
+        help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code).",
+    ),
+    shape: str = typer.Option(
+        None,
+        help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md).",
+    ),
+    drop_escaped: bool = typer.Option(
+        False,
+        help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far).",
+    ),
+    max_steps: int = typer.Option(
+        None,
+        "--max-steps",
+        help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
+    ),
+    oversubscribe: bool = typer.Option(
+        False, "--oversubscribe", help="Allow more --workers than this machine's cores."
+    ),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table.
     Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
     from intrusim.analysis.sweep import sweep_omega
-
     from intrusim.mpm.io import safe_child
 
     try:
@@ -220,11 +336,30 @@ def sweep(
         if workers < 1:
             raise InputError(f"--workers must be >= 1, got {workers}")
         if workers > cores and scheduler is None and not serial and not oversubscribe:
-            raise InputError(f"--workers {workers} is more than this machine's {cores} cores "
-                             "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)")
+            raise InputError(
+                f"--workers {workers} is more than this machine's {cores} cores "
+                "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)"
+            )
         threads = max(1, cores // workers) if not serial else None
-        case = _case(scenario, quick, out, frames_every, threads, cell_size, contact_band, length, t_max, mu_i_diameter, fluidity_diameter, treadmill, arch, flip, shape,
-                     drop_escaped, max_steps)
+        case = _case(
+            scenario,
+            quick,
+            out,
+            frames_every,
+            threads,
+            cell_size,
+            contact_band,
+            length,
+            t_max,
+            mu_i_diameter,
+            fluidity_diameter,
+            treadmill,
+            arch,
+            flip,
+            shape,
+            drop_escaped,
+            max_steps,
+        )
         omegas = _rpms(omega_rpm)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # the run folders' names, checked before any compute
@@ -246,10 +381,18 @@ def sweep(
 def collect(
     folder: Path = typer.Argument(..., help="Folder of finished run folders (each with result.json)."),
     out: Path = typer.Option(None, help="Sweep CSV to write (default FOLDER/SCENARIO_mpm_sweep.csv)."),
-    window_from: float = typer.Option(None, "--from", help="Average from this time on, s (default: ramp + settle time; "
-                                      "a runner: whole revolutions from the end). For runs that settled late."),
-    last: float = typer.Option(None, "--last", help="Average over each run's last LAST seconds, s (runs of different "
-                               "lengths, each settled by its own end; not with --from)."),
+    window_from: float = typer.Option(
+        None,
+        "--from",
+        help="Average from this time on, s (default: ramp + settle time; "
+        "a runner: whole revolutions from the end). For runs that settled late.",
+    ),
+    last: float = typer.Option(
+        None,
+        "--last",
+        help="Average over each run's last LAST seconds, s (runs of different "
+        "lengths, each settled by its own end; not with --from).",
+    ),
 ) -> None:
     """Gather finished runs (e.g. `mpm steady` runs of one case on beds of different lengths) into
     the sweep CSV that `reproduce --mpm --runs` and `calibrate --mpm` read."""
@@ -264,20 +407,31 @@ def collect(
         typer.echo("error: --last must be > 0 and cannot be given with --from", err=True)
         raise typer.Exit(2)
 
-    infos = {r.parent: json.loads((r.parent / "locomotion.json").read_text())
-             for r in sorted(folder.glob("*/result.json")) if (r.parent / "locomotion.json").exists()}
+    infos = {
+        r.parent: json.loads((r.parent / "locomotion.json").read_text())
+        for r in sorted(folder.glob("*/result.json"))
+        if (r.parent / "locomotion.json").exists()
+    }
     names = {info["scenario"]["name"] for info in infos.values()}
     if not infos or len(names) != 1:
-        typer.echo(f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
-                   f"found {len(infos)} runs of {sorted(names) or 'none'}", err=True)
+        typer.echo(
+            f"error: {folder} needs finished run folders (result.json, locomotion.json) of one scenario; "
+            f"found {len(infos)} runs of {sorted(names) or 'none'}",
+            err=True,
+        )
         raise typer.Exit(2)
 
     def start(run: Path) -> float | None:  # --last: the window ends where the run's own window ends
         return window_from if last is None else json.loads((run / "result.json").read_text())["window"][1] - last
 
     try:
-        records = sorted((steady_record(float(info["omega_rpm"]), load_result(run, t_start=start(run)))
-                          for run, info in infos.items()), key=lambda rec: rec["omega_rpm"])
+        records = sorted(
+            (
+                steady_record(float(info["omega_rpm"]), load_result(run, t_start=start(run)))
+                for run, info in infos.items()
+            ),
+            key=lambda rec: rec["omega_rpm"],
+        )
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
@@ -313,8 +467,13 @@ def _progress_bar(total: float, start: float = 0.0):
     from tqdm import tqdm
 
     total = round(total, 6)
-    bar = tqdm(total=total, initial=min(round(start, 6), total), unit="s(sim)", desc="MPM",
-               bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]")
+    bar = tqdm(
+        total=total,
+        initial=min(round(start, 6), total),
+        unit="s(sim)",
+        desc="MPM",
+        bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]",
+    )
 
     def update(solver) -> None:
         bar.update(max(0.0, min(round(solver.t, 9), total) - bar.n))
@@ -327,7 +486,9 @@ def _run_solver(solver, t_end: float) -> None:
 
     bar, update = _progress_bar(t_end, solver.t)
     try:
-        solver.run(t_end=t_end, progress=update, checkpoint_end=False)  # the end state below, with or without a schedule
+        solver.run(
+            t_end=t_end, progress=update, checkpoint_end=False
+        )  # the end state below, with or without a schedule
         update(solver)
     except SimulationError as err:
         bar.close()  # the error on its own line, not at the end of the bar's
@@ -335,10 +496,14 @@ def _run_solver(solver, t_end: float) -> None:
         raise typer.Exit(1) from None
     finally:
         bar.close()
-    if solver.run_dir is not None:  # the end state: a longer run (resume --t-end, or run with a later t_end) goes on from here
+    if (
+        solver.run_dir is not None
+    ):  # the end state: a longer run (resume --t-end, or run with a later t_end) goes on from here
         solver.checkpoint_run_folder()
     last = solver.rows[-1]
-    typer.echo(f"done: t = {solver.t:.4g} s, {solver.step_count} steps of {solver.dt:.3g} s, {solver.particles.n} points")
+    typer.echo(
+        f"done: t = {solver.t:.4g} s, {solver.step_count} steps of {solver.dt:.3g} s, {solver.particles.n} points"
+    )
     if solver.run_dir is not None:
         typer.echo(f"run folder: {solver.run_dir} (config.json, timeseries.csv, snapshots/, checkpoint.npz)")
     forces = {k: last[k] for k in ("fx", "fz", "moment") if k in last}
@@ -350,7 +515,11 @@ def _run_solver(solver, t_end: float) -> None:
 def run(
     config: Path = typer.Argument(..., help="MPM configuration, TOML (any MPMConfig field; see docs/mpm.md)."),
     out: Path = typer.Option(None, help="Run folder (overrides output.directory of the file)."),
-    max_steps: int = typer.Option(None, "--max-steps", help="Most time steps the run may take (overrides time.max_steps, default 2e7): a run estimated to take more (t_end / dt) is refused before it starts."),
+    max_steps: int = typer.Option(
+        None,
+        "--max-steps",
+        help="Most time steps the run may take (overrides time.max_steps, default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
+    ),
 ) -> None:
     """Run an MPM simulation from a configuration file (validated before any compute).
 
@@ -384,7 +553,9 @@ def run(
     with run_lock(run_dir):  # one writer per run folder
         solver = Solver(cfg)
         if solver.continue_in_run_dir():
-            typer.echo(f"continuing {solver.run_dir} from its checkpoint at t = {solver.t:.4g} s (step {solver.step_count})")
+            typer.echo(
+                f"continuing {solver.run_dir} from its checkpoint at t = {solver.t:.4g} s (step {solver.step_count})"
+            )
         _run_solver(solver, cfg.time.t_end)
 
 
@@ -401,8 +572,10 @@ def resume(
     if not (run_dir / "config.json").is_file():
         raise InputError(f"{run_dir} has no config.json (not a run folder)")
     if (run_dir / "locomotion.json").exists():  # its result.json, progress.json and fields are kept by `mpm steady`
-        raise InputError(f"{run_dir} is an `mpm steady` / `mpm sweep` run: go on with the same command and a larger "
-                         "--t-max on its --out folder, which keeps its result consistent")
+        raise InputError(
+            f"{run_dir} is an `mpm steady` / `mpm sweep` run: go on with the same command and a larger "
+            "--t-max on its --out folder, which keeps its result consistent"
+        )
     if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"--t-end must be a finite time > 0 s, got {t_end!r}")
     with run_lock(run_dir):

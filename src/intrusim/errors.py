@@ -37,7 +37,11 @@ def validation_message(err: Any, prefix: str = "") -> str:
         loc = ".".join(str(p) for p in e.get("loc", ()) if not (isinstance(p, str) and p in ("prescribed", "coupled")))
         msg = e.get("msg", "invalid").removeprefix("Value error, ")
         got = e.get("input", None)
-        shown = "" if e.get("type") in ("missing", "model_type", "dict_type") or isinstance(got, dict) else f" (got {_short(got)})"
+        shown = (
+            ""
+            if e.get("type") in ("missing", "model_type", "dict_type") or isinstance(got, dict)
+            else f" (got {_short(got)})"
+        )
         where = f"{prefix}{loc}" if loc else prefix.rstrip(".")
         parts.append(f"{where}: {msg}{shown}" if where else f"{msg}{shown}")
     return "; ".join(parts) if parts else str(err)
@@ -50,19 +54,26 @@ def _short(value: Any, limit: int = 60) -> str:
 
 # programming errors: a sweep never turns them into a failed data point, the CLI calls them internal
 PROGRAMMING_ERRORS: tuple[type[BaseException], ...] = (
-    TypeError, AttributeError, NameError, KeyError, IndexError, ZeroDivisionError, AssertionError,
-    NotImplementedError, ImportError, RecursionError,
+    TypeError,
+    AttributeError,
+    NameError,
+    KeyError,
+    IndexError,
+    ZeroDivisionError,
+    AssertionError,
+    NotImplementedError,
+    ImportError,
+    RecursionError,
 )
 
 
 def classify(err: BaseException) -> tuple[int, str]:
     """(exit code, one-line message) of an exception that reached the command line."""
     import json
+    import sys
     import tomllib
 
     from pydantic import ValidationError
-
-    import sys
 
     # a SimulationError exists only once the solver's module is loaded (importing it starts Taichi)
     diagnostics = sys.modules.get("intrusim.mpm.diagnostics")
@@ -79,8 +90,9 @@ def classify(err: BaseException) -> tuple[int, str]:
         where = f": {err.filename}" if err.filename else ""
         return EXIT_FAILED, f"{err.strerror or _one_line(err)}{where}"
     if isinstance(err, PROGRAMMING_ERRORS) or not isinstance(err, ValueError):
-        return EXIT_FAILED, (f"internal error {type(err).__name__}: {_one_line(err)} "
-                             "(a bug; `intrusim --debug ...` shows the traceback)")
+        return EXIT_FAILED, (
+            f"internal error {type(err).__name__}: {_one_line(err)} (a bug; `intrusim --debug ...` shows the traceback)"
+        )
     return EXIT_BAD_INPUT, _one_line(err)  # InputError and other ValueErrors: bad input
 
 

@@ -46,8 +46,7 @@ STRUCTURAL_MODELS: tuple[str, ...] = ("none", "wheel-rear-half", "wheel-rear-hal
 class ForceModel(Protocol):
     """Anything that gives the granular wrench on a body in a given state."""
 
-    def wrench(self, state: BodyState) -> Wrench:
-        ...
+    def wrench(self, state: BodyState) -> Wrench: ...
 
 
 CHUNK = 16  # elements per culling chunk of the compiled kernel (consecutive elements of the outline)
@@ -180,7 +179,9 @@ def _wrench_kernel(
             depth += dh
         if depth >= 0.0:
             continue
-        ex, ez = element_force(nx, nz, nz * nz - nx * nx, 2.0 * nx * nz, ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, area[i])
+        ex, ez = element_force(
+            nx, nz, nz * nz - nx * nx, 2.0 * nx * nz, ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, area[i]
+        )
         fx += ex
         fz += ez
         mom += rx * ez - rz * ex
@@ -273,8 +274,21 @@ class ResistiveForceModel:
         else:
             return None
         return (
-            self._mid, self._nrm, self._area, self._ccen, self._crad, float(self.surface_z), self._coef,
-            self.xi * N_PER_CM3, self.lam * self.rho, kind, r, g, slope, offset, float(self.bulldozing),
+            self._mid,
+            self._nrm,
+            self._area,
+            self._ccen,
+            self._crad,
+            float(self.surface_z),
+            self._coef,
+            self.xi * N_PER_CM3,
+            self.lam * self.rho,
+            kind,
+            r,
+            g,
+            slope,
+            offset,
+            float(self.bulldozing),
             float(self.radius),
         )
 
@@ -350,5 +364,7 @@ def make_force_model(
             fs = WheelRearHalf(shape.radius, psi=psi)
         elif structural == "wheel-rear-half-effective":
             fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
-        return ResistiveForceModel(els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull)
+        return ResistiveForceModel(
+            els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull
+        )
     raise InputError(f"force model kind must be 'rft', 'drft-inertial' or 'drft', got {kind!r}")

@@ -186,7 +186,12 @@ def hub_with_lugs(
     except TypeError:  # unhashable argument: build without the cache (validation reports it)
         hit = _hub_with_lugs(*args, **kwargs)
     e = hit.elements
-    return Shape(hit.name, hit.polygon.copy(), SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()), hit.radius)
+    return Shape(
+        hit.name,
+        hit.polygon.copy(),
+        SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()),
+        hit.radius,
+    )
 
 
 def _hub_with_lugs(
@@ -234,9 +239,7 @@ def _hub_with_lugs(
     half = np.arcsin(0.5 * w / r)  # half-angle of a lug's footprint on the hub
     pitch = 2 * np.pi / n_lugs
     if 2 * half >= pitch:
-        raise InputError(
-            f"{n_lugs} lugs of width {w} m do not fit on a hub of radius {r} m (they overlap)"
-        )
+        raise InputError(f"{n_lugs} lugs of width {w} m do not fit on a hub of radius {r} m (they overlap)")
     base = np.sqrt(r * r - 0.25 * w * w)  # radial coordinate where a lug side meets the hub
 
     def lug_frame(phi: float) -> tuple[np.ndarray, np.ndarray]:
@@ -247,8 +250,14 @@ def _hub_with_lugs(
     for k in range(n_lugs):
         phi = k * pitch
         er, et = lug_frame(phi)
+
         def corners(tip: float) -> list[np.ndarray]:
-            return [base * er - 0.5 * w * et, tip * er - 0.5 * w * et, tip * er + 0.5 * w * et, base * er + 0.5 * w * et]
+            return [
+                base * er - 0.5 * w * et,
+                tip * er - 0.5 * w * et,
+                tip * er + 0.5 * w * et,
+                base * er + 0.5 * w * et,
+            ]
 
         c = corners(r + h * scale)  # elements: possibly shadowed height
         parts.append(_segment_elements(c[0], c[1], n_lug, TAG_LUG_SIDE, width))
@@ -431,7 +440,9 @@ def polygon_shape(
     size = float(edge_len.sum()) / 100 if element_size is None else positive("element_size", element_size)
     width = positive("width", width)
     parts = [
-        _segment_elements(p[k], p[(k + 1) % len(p)], max(1, int(np.ceil(edge_len[k] / size - 1e-9))), TAG_SURFACE, width)
+        _segment_elements(
+            p[k], p[(k + 1) % len(p)], max(1, int(np.ceil(edge_len[k] / size - 1e-9))), TAG_SURFACE, width
+        )
         for k in range(len(p))
     ]
     centroid_dist = float(np.max(np.linalg.norm(p, axis=1)))

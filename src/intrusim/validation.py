@@ -93,8 +93,10 @@ def check_mpm_geometry(cfg: Any) -> None:
     pose, obstacles, bed polygons): not simple, zero area, or not inside the box."""
     lx, lz = cfg.domain.size
     if cfg.contact_band_cells > min(cfg.domain.cells):  # every node would be in contact: the body fills the box
-        raise ValueError(f"contact_band_cells: {cfg.contact_band_cells:g} cells is wider than the grid "
-                         f"({cfg.domain.cells[0]} x {cfg.domain.cells[1]} cells)")
+        raise ValueError(
+            f"contact_band_cells: {cfg.contact_band_cells:g} cells is wider than the grid "
+            f"({cfg.domain.cells[0]} x {cfg.domain.cells[1]} cells)"
+        )
     items = [(f"intruders.{k}.vertices", ic.vertices, (ic.x, ic.z, ic.theta)) for k, ic in enumerate(cfg.intruders)]
     items += [(f"obstacles.{k}.vertices", o.vertices, None) for k, o in enumerate(cfg.obstacles)]
     items += [(f"bed.polygons.{k}", p, None) for k, p in enumerate(cfg.bed.polygons)]
@@ -114,13 +116,17 @@ def check_run_size(cfg: Any, dt: float) -> None:
     nx nz > MAX_CELLS, or t_end / dt > ``time.max_steps``."""
     nx, nz = cfg.domain.cells
     if nx * nz > MAX_CELLS:
-        raise InputError(f"domain.cells: {nx} x {nz} = {nx * nz:.3g} cells is more than {MAX_CELLS:.3g} "
-                         f"(cell size {cfg.domain.h:.3g} m); use larger cells")
+        raise InputError(
+            f"domain.cells: {nx} x {nz} = {nx * nz:.3g} cells is more than {MAX_CELLS:.3g} "
+            f"(cell size {cfg.domain.h:.3g} m); use larger cells"
+        )
     if not (math.isfinite(dt) and dt > 0):
         raise InputError(f"time step: dt = {dt!r} s (check material.youngs_modulus, time.cfl, the bodies' speeds)")
     steps = cfg.time.t_end / dt
     if steps > cfg.time.max_steps:
-        raise InputError(f"time.t_end: {cfg.time.t_end:g} s at dt = {dt:.3g} s is {steps:.3g} steps, more than "
-                         f"time.max_steps = {cfg.time.max_steps:.3g} (dt is set by the cell size, time.cfl, "
-                         f"time.dt and the fastest body: a spin or speed this large, or a cfl or dt this small, "
-                         f"would run for ever); raise time.max_steps (--max-steps) to run it anyway")
+        raise InputError(
+            f"time.t_end: {cfg.time.t_end:g} s at dt = {dt:.3g} s is {steps:.3g} steps, more than "
+            f"time.max_steps = {cfg.time.max_steps:.3g} (dt is set by the cell size, time.cfl, "
+            f"time.dt and the fastest body: a spin or speed this large, or a cfl or dt this small, "
+            f"would run for ever); raise time.max_steps (--max-steps) to run it anyway"
+        )

@@ -31,8 +31,13 @@ print(json.dumps({{"arch": b.arch, "requested": b.requested, "fell_back": b.fell
 
 
 def _probe(arch: str, **env) -> dict:
-    proc = subprocess.run([sys.executable, "-c", PROBE.format(arch=arch)], capture_output=True, text=True,
-                          env={**os.environ, "INTRUSIM_TI_ARCH": "", **env}, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(arch=arch)],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "INTRUSIM_TI_ARCH": "", **env},
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -59,8 +64,13 @@ def test_the_environment_overrides_the_callers_arch():
 
 
 def test_a_bad_arch_in_the_environment_is_refused_by_name():
-    proc = subprocess.run([sys.executable, "-c", PROBE.format(arch="cpu")], capture_output=True, text=True,
-                          env={**os.environ, "INTRUSIM_TI_ARCH": "tpu"}, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(arch="cpu")],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "INTRUSIM_TI_ARCH": "tpu"},
+        timeout=120,
+    )
     assert proc.returncode != 0
     assert "INTRUSIM_TI_ARCH" in proc.stderr and "'tpu'" in proc.stderr
 
@@ -96,19 +106,27 @@ def test_gpu_check_compares_series_recorded_at_the_same_times():
         gc.compare(a, late)
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--cases", "64k,2M"], "unknown ['2M']"),
-    (["--repeat", "0"], "--repeat must be >= 1"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--cases", "64k,2M"], "unknown ['2M']"),
+        (["--repeat", "0"], "--repeat must be >= 1"),
+    ],
+)
 def test_bench_mpm_refuses_bad_options_before_compute(args, message):
-    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "bench_mpm.py"), *args],
-                          capture_output=True, text=True, timeout=60)
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "bench_mpm.py"), *args], capture_output=True, text=True, timeout=60
+    )
     assert proc.returncode == 2 and message in proc.stderr
 
 
 def test_gpu_check_refuses_a_non_positive_time():
-    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "gpu_check.py"), "--t-end", "0"],
-                          capture_output=True, text=True, timeout=60)
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "gpu_check.py"), "--t-end", "0"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert proc.returncode == 2 and "--t-end and --record-every must be > 0" in proc.stderr
 
 
@@ -116,9 +134,26 @@ def test_gpu_check_on_the_cpu_against_itself_finds_no_difference(tmp_path):
     # the script end to end, with the CPU in the GPU's place: two processes from the same state give
     # the same numbers bit for bit (the CPU's P2G sums in a fixed order), and it says so
     out = tmp_path / "check.json"
-    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "gpu_check.py"), "--arch", "cpu", "--threads", "1",
-                           "--t-end", "0.003", "--record-every", "0.001", "--json", str(out)],
-                          capture_output=True, text=True, timeout=300, env={**os.environ, "INTRUSIM_TI_ARCH": ""})
+    proc = subprocess.run(
+        [
+            sys.executable,
+            str(ROOT / "benchmarks" / "gpu_check.py"),
+            "--arch",
+            "cpu",
+            "--threads",
+            "1",
+            "--t-end",
+            "0.003",
+            "--record-every",
+            "0.001",
+            "--json",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "INTRUSIM_TI_ARCH": ""},
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     got = json.loads(out.read_text())
     assert [r["arch"] for r in got["runs"]] == ["cpu", "cpu"]

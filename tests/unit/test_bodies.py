@@ -18,7 +18,9 @@ def test_drive_ramp_and_angle():
     d = Drive(-4.0, ramp_time=2.0)
     assert d.omega_at(0.0) == 0.0 and d.omega_at(1.0) == -2.0 and d.omega_at(5.0) == -4.0
     ts = np.linspace(0, 5, 5001)
-    numeric = np.concatenate([[0], np.cumsum(0.5 * np.diff(ts) * (np.vectorize(d.omega_at)(ts)[1:] + np.vectorize(d.omega_at)(ts)[:-1]))])
+    numeric = np.concatenate(
+        [[0], np.cumsum(0.5 * np.diff(ts) * (np.vectorize(d.omega_at)(ts)[1:] + np.vectorize(d.omega_at)(ts)[:-1]))]
+    )
     assert np.allclose(np.vectorize(d.angle_at)(ts), numeric, atol=1e-9)
 
 
@@ -57,7 +59,14 @@ def test_implicit_stable_where_explicit_diverges():
     tr = simulate(stiff_ground(), body, Drive(0.0, 0.0), BodyState(z=0.01), 1.0, IntegratorSettings(dt=1e-2))
     assert tr.z[-1] == pytest.approx(settle, rel=1e-3)
     with pytest.raises(IntegratorError, match="smaller time step"):
-        simulate(stiff_ground(), body, Drive(0.0, 0.0), BodyState(z=0.01), 1.0, IntegratorSettings(dt=1e-2, scheme="explicit"))
+        simulate(
+            stiff_ground(),
+            body,
+            Drive(0.0, 0.0),
+            BodyState(z=0.01),
+            1.0,
+            IntegratorSettings(dt=1e-2, scheme="explicit"),
+        )
 
 
 def test_newton_failure_is_reported():

@@ -73,7 +73,9 @@ def test_psi_settings_reach_the_force_model_and_the_linear_law_is_compiled():
     for params in ({"psi": 0.5}, {"psi": 0.5, "psi_offset": 0.1}):
         sc = with_parameters(s, params)
         fast, ref = run_steady(sc, "drft", 60.0), run_steady(sc, "drft", 60.0, compiled=False)
-        assert fast.velocity == pytest.approx(ref.velocity, rel=1e-9) and fast.sinkage == pytest.approx(ref.sinkage, rel=1e-9)
+        assert fast.velocity == pytest.approx(ref.velocity, rel=1e-9) and fast.sinkage == pytest.approx(
+            ref.sinkage, rel=1e-9
+        )
 
 
 def test_with_parameters_validates_and_copies():
@@ -288,7 +290,9 @@ def test_cli_calibrate_leave_one_out(tmp_path):
 def test_cli_calibrate_bad_input_is_a_message(tmp_path):
     r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", str(tmp_path / "none.csv")])
     assert r.exit_code == 2 and "not found" in r.output
-    r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", "x.csv", "--params", "xi,psi", "--psi-from-dh", "affine"])
+    r = CliRunner().invoke(
+        app, ["calibrate", "wheel", "--mpm", "x.csv", "--params", "xi,psi", "--psi-from-dh", "affine"]
+    )
     assert r.exit_code == 2 and "do not fit psi" in r.output
 
 
@@ -312,12 +316,25 @@ def test_cli_calibrate_checks_a_single_omega_and_refuses_a_bad_check_before_the_
     s = with_mpm_push(_wheel("wheel-rear-half"))
     ref = drft_steady_states(with_parameters(s, {"xi": 0.8}), [20.0, 80.0]).to_csv(tmp_path / "wheel.csv")
     one = drft_steady_states(with_parameters(s, {"xi": 0.8}), [50.0]).to_csv(tmp_path / "one.csv")
-    base = ["calibrate", "wheel", "--mpm", str(ref), "--params", "xi", "--starts", "1", "--structural", "wheel-rear-half"]
+    base = [
+        "calibrate",
+        "wheel",
+        "--mpm",
+        str(ref),
+        "--params",
+        "xi",
+        "--starts",
+        "1",
+        "--structural",
+        "wheel-rear-half",
+    ]
     r = CliRunner().invoke(app, [*base, "--check", f"wheel={one}", "--out", str(tmp_path / "out"), "--name", "cal"])
     assert r.exit_code == 0, r.output
     assert "check wheel (grousered_wheel, fitted values reused): 50 RPM v " in r.output
     bad = SweepResult("w", "mpm", None, [{"omega_rpm": 50.0, "ok": True, "velocity": 0.3, "sinkage": 0.0}])
-    r = CliRunner().invoke(app, [*base, "--check", f"wheel={bad.to_csv(tmp_path / 'bad.csv')}", "--out", str(tmp_path / "bad")])
+    r = CliRunner().invoke(
+        app, [*base, "--check", f"wheel={bad.to_csv(tmp_path / 'bad.csv')}", "--out", str(tmp_path / "bad")]
+    )
     assert r.exit_code == 2 and "--check wheel" in r.output and "non-zero" in r.output
     assert "xi = " not in r.output and not (tmp_path / "bad").exists()  # refused before the fit
 

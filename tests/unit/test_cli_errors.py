@@ -4,7 +4,6 @@ a hang or NaN in the output. One test (or case) per numbered finding of the issu
 
 import csv
 import errno
-import json
 import math
 import os
 import shutil
@@ -99,14 +98,19 @@ def test_1_sweep_workers_below_one_or_above_the_cores_are_refused(tmp_path):
     _refused(_run("mpm", "sweep", "--quick", "--out", tmp_path, "--workers", "0"), "--workers")
     many = (os.cpu_count() or 1) + 1
     _refused(_run("mpm", "sweep", "--quick", "--out", tmp_path, "--workers", many), "--workers", str(many), "cores")
-    _refused(_run("calibrate", "wheel", "--mpm", tmp_path / "x.csv", "--workers", many), "--workers", str(many), "cores")
+    _refused(
+        _run("calibrate", "wheel", "--mpm", tmp_path / "x.csv", "--workers", many), "--workers", str(many), "cores"
+    )
 
 
-@pytest.mark.parametrize("old,new", [
-    ("omega = -1.0", "omega = 1e30"),  # dt ~ 1e-31 s
-    ("t_end = 0.01", "t_end = 0.01\ncfl = 1e-12"),
-    ("t_end = 0.01", "t_end = 0.01\ndt = 1e-15"),
-])
+@pytest.mark.parametrize(
+    "old,new",
+    [
+        ("omega = -1.0", "omega = 1e30"),  # dt ~ 1e-31 s
+        ("t_end = 0.01", "t_end = 0.01\ncfl = 1e-12"),
+        ("t_end = 0.01", "t_end = 0.01\ndt = 1e-15"),
+    ],
+)
 def test_1_a_run_of_too_many_steps_is_refused_before_compute(tmp_path, old, new):
     line = _refused(_run("mpm", "run", _toml(tmp_path, _replace(BODY, old, new))), "time.max_steps", "steps")
     assert "--max-steps" in line
@@ -122,14 +126,17 @@ def test_1_the_step_limit_can_be_raised(tmp_path):
 # ---------------------------------------------------------------- 2. NaN and inf
 
 
-@pytest.mark.parametrize("old,new,field", [
-    ("width = 0.1", "width = inf", "intruders.0.width"),
-    ("mass_z = 1.0", "mass_z = inf", "intruders.0.motion.mass_z"),
-    ("omega = -1.0", "omega = nan", "intruders.0.motion.omega"),
-    ("x = 0.1", "x = nan", "intruders.0.x"),
-    ("mass_z = 1.0", "mass_z = 1.0\nexternal_force = [nan, 0.0]", "intruders.0.motion.external_force"),
-    ("[0.02, 0.01], [-0.02", "[0.02, nan], [-0.02", "intruders.0.vertices"),
-])
+@pytest.mark.parametrize(
+    "old,new,field",
+    [
+        ("width = 0.1", "width = inf", "intruders.0.width"),
+        ("mass_z = 1.0", "mass_z = inf", "intruders.0.motion.mass_z"),
+        ("omega = -1.0", "omega = nan", "intruders.0.motion.omega"),
+        ("x = 0.1", "x = nan", "intruders.0.x"),
+        ("mass_z = 1.0", "mass_z = 1.0\nexternal_force = [nan, 0.0]", "intruders.0.motion.external_force"),
+        ("[0.02, 0.01], [-0.02", "[0.02, nan], [-0.02", "intruders.0.vertices"),
+    ],
+)
 def test_2_nan_and_inf_in_a_body_are_refused_naming_the_field(tmp_path, old, new, field):
     _refused(_run("mpm", "run", _toml(tmp_path, _replace(BODY, old, new)), "--out", tmp_path / "run"), field)
     assert not (tmp_path / "run" / "timeseries.csv").exists()
@@ -137,7 +144,9 @@ def test_2_nan_and_inf_in_a_body_are_refused_naming_the_field(tmp_path, old, new
 
 def _light_body_on_the_bed() -> str:
     """BODY at 1e-6 kg/m, its lower face on the bed's surface (z = 0.05 m), so the contact acts at once."""
-    return _replace(_replace(BODY, "mass_x = 1.0\nmass_z = 1.0", "mass_x = 1e-6\nmass_z = 1e-6"), "z = 0.065", "z = 0.06")
+    return _replace(
+        _replace(BODY, "mass_x = 1.0\nmass_z = 1.0", "mass_x = 1e-6\nmass_z = 1e-6"), "z = 0.065", "z = 0.06"
+    )
 
 
 def test_2_a_body_too_light_to_stay_in_the_box_stops_the_run_with_a_diagnosis(tmp_path):
@@ -146,7 +155,11 @@ def test_2_a_body_too_light_to_stay_in_the_box_stops_the_run_with_a_diagnosis(tm
     assert r.exit_code == 1, r.output
     assert "Traceback" not in r.output and "body" in r.output
     assert (tmp_path / "run" / "checkpoint_failure.npz").exists()
-    rows = list(csv.DictReader((tmp_path / "run" / "timeseries.csv").open())) if (tmp_path / "run" / "timeseries.csv").exists() else []
+    rows = (
+        list(csv.DictReader((tmp_path / "run" / "timeseries.csv").open()))
+        if (tmp_path / "run" / "timeseries.csv").exists()
+        else []
+    )
     assert all(math.isfinite(float(v)) for row in rows for v in row.values() if v)
 
 
@@ -157,7 +170,10 @@ def test_2_the_body_guard_sees_a_body_that_leaves_the_box():
     from intrusim.mpm.intruder import IntruderState
 
     square = SimpleNamespace(vertices=[[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]])
-    body = lambda **kw: SimpleNamespace(state=IntruderState(**{"x": 0.1, "z": 0.05, "theta": 0.0, **kw}), contact=square)  # noqa: E731
+
+    def body(**kw):
+        return SimpleNamespace(state=IntruderState(**{"x": 0.1, "z": 0.05, "theta": 0.0, **kw}), contact=square)  # noqa: E731
+
     assert body_report([body()], 0.2, 0.1, 1e-4, 0.01) is None
     assert "left the box" in body_report([body(z=-575.0)], 0.2, 0.1, 1e-4, 0.01)  # mass 1e-6 ended there
     assert "NaN/inf" in body_report([body(vx=math.nan)], 0.2, 0.1, 1e-4, 0.01)
@@ -167,20 +183,44 @@ def test_2_the_body_guard_sees_a_body_that_leaves_the_box():
 # ---------------------------------------------------------------- 3. geometry
 
 
-@pytest.mark.parametrize("old,new,words", [
-    ("z = 0.065", "z = 0.2", ("intruders.0.vertices", "above the top")),
-    ("x = 0.1", "x = 0.5", ("intruders.0.vertices", "side wall")),
-    ("z = 0.065", "z = 0.0", ("intruders.0.vertices", "floor")),
-    ("[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
-     "[[-0.02, -0.01], [0.02, 0.01], [0.02, -0.01], [-0.02, 0.005]]", ("intruders.0.vertices", "not a simple polygon")),
-    ("[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
-     "[[-0.02, -0.01], [0.0, 0.0], [0.02, 0.01]]", ("intruders.0.vertices", "zero area")),
-    ("[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
-     "[[0.01, 0.01], [0.01, 0.01], [0.01, 0.01]]", ("intruders.0.vertices", "zero area")),
-    ("[[intruders]]", "[[obstacles]]\nvertices = [[0.0, 0.0], [0.01, 0.0], [0.01, nan]]\n[[intruders]]", ("obstacles.0.vertices",)),
-    ("[[intruders]]", "[[obstacles]]\nvertices = [[0.15, 0.0], [0.25, 0.0], [0.25, 0.02]]\n[[intruders]]", ("obstacles.0.vertices", "side wall")),
-    ("rectangles", "polygons = [[[0.0, 0.0], [0.5, 0.0], [0.5, 0.05]]]\nrectangles", ("bed.polygons.0", "side wall")),
-])
+@pytest.mark.parametrize(
+    "old,new,words",
+    [
+        ("z = 0.065", "z = 0.2", ("intruders.0.vertices", "above the top")),
+        ("x = 0.1", "x = 0.5", ("intruders.0.vertices", "side wall")),
+        ("z = 0.065", "z = 0.0", ("intruders.0.vertices", "floor")),
+        (
+            "[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
+            "[[-0.02, -0.01], [0.02, 0.01], [0.02, -0.01], [-0.02, 0.005]]",
+            ("intruders.0.vertices", "not a simple polygon"),
+        ),
+        (
+            "[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
+            "[[-0.02, -0.01], [0.0, 0.0], [0.02, 0.01]]",
+            ("intruders.0.vertices", "zero area"),
+        ),
+        (
+            "[[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]",
+            "[[0.01, 0.01], [0.01, 0.01], [0.01, 0.01]]",
+            ("intruders.0.vertices", "zero area"),
+        ),
+        (
+            "[[intruders]]",
+            "[[obstacles]]\nvertices = [[0.0, 0.0], [0.01, 0.0], [0.01, nan]]\n[[intruders]]",
+            ("obstacles.0.vertices",),
+        ),
+        (
+            "[[intruders]]",
+            "[[obstacles]]\nvertices = [[0.15, 0.0], [0.25, 0.0], [0.25, 0.02]]\n[[intruders]]",
+            ("obstacles.0.vertices", "side wall"),
+        ),
+        (
+            "rectangles",
+            "polygons = [[[0.0, 0.0], [0.5, 0.0], [0.5, 0.05]]]\nrectangles",
+            ("bed.polygons.0", "side wall"),
+        ),
+    ],
+)
 def test_3_bad_geometry_is_refused_naming_the_polygon(tmp_path, old, new, words):
     _refused(_run("mpm", "run", _toml(tmp_path, _replace(BODY, old, new))), *words)
 
@@ -202,8 +242,9 @@ def test_4_a_checkpoint_is_never_written_from_a_broken_state(tmp_path):
     with pytest.raises(SimulationError, match="NaN/inf in x"):
         mpm_io.save_checkpoint(tmp_path / "c.npz", {"x": np.array([[0.0, math.nan]])}, {"step_count": 1})
     assert not (tmp_path / "c.npz").exists() and not list(tmp_path.glob("*.tmp"))
-    cfg = MPMConfig.model_validate({**__import__("tomllib").loads(TINY), "output": {"directory": str(tmp_path / "run"),
-                                                                              "record_every": 0.005}})
+    cfg = MPMConfig.model_validate(
+        {**__import__("tomllib").loads(TINY), "output": {"directory": str(tmp_path / "run"), "record_every": 0.005}}
+    )
     s = Solver(cfg)
     s.run(t_end=0.005)
     d = s.particles.to_numpy()
@@ -290,27 +331,33 @@ def test_4_a_full_disk_during_a_run_is_one_line_and_exit_1(tmp_path, monkeypatch
 # ---------------------------------------------------------------- 5. one-line errors, exit codes
 
 
-@pytest.mark.parametrize("old,new,field", [
-    ("[time]", "[material]\nyoungs_modulus = inf\n[time]", "material.youngs_modulus"),
-    ("t_end = 0.01", "t_end = inf", "time.t_end"),
-    ("omega = -1.0", "omega = inf", "intruders.0.motion.omega"),
-    ("record_every = 0.0025", "record_every = inf", "output.record_every"),
-    ("record_every = 0.0025", "record_every = 0.0025\nsnapshot_every = inf", "output.snapshot_every"),
-    ("t_end = 0.01", "t_end = 0.01\nv_max_expected = inf", "time.v_max_expected"),
-    ("t_end = 0.01", "t_end = true", "t_end"),
-])
+@pytest.mark.parametrize(
+    "old,new,field",
+    [
+        ("[time]", "[material]\nyoungs_modulus = inf\n[time]", "material.youngs_modulus"),
+        ("t_end = 0.01", "t_end = inf", "time.t_end"),
+        ("omega = -1.0", "omega = inf", "intruders.0.motion.omega"),
+        ("record_every = 0.0025", "record_every = inf", "output.record_every"),
+        ("record_every = 0.0025", "record_every = 0.0025\nsnapshot_every = inf", "output.snapshot_every"),
+        ("t_end = 0.01", "t_end = 0.01\nv_max_expected = inf", "time.v_max_expected"),
+        ("t_end = 0.01", "t_end = true", "t_end"),
+    ],
+)
 def test_5_bad_numbers_in_a_file_are_one_line_and_exit_2(tmp_path, old, new, field):
     _refused(_run("mpm", "run", _toml(tmp_path, _replace(BODY, old, new))), field)
 
 
-@pytest.mark.parametrize("args,words", [
-    (["sweep", "--omega-rpm", "10:90:0", "--no-parallel"], ("omega range",)),
-    (["sweep", "--omega-rpm", "10:20:1e-9", "--no-parallel"], ("omega range", "points")),
-    (["forces", "--slip", "nan"], ("--slip", "nan")),
-    (["forces", "--sinkage-mm", "5,inf"], ("--sinkage-mm",)),
-    (["mpm", "collect", ".", "--from", "nan"], ("--from", "nan")),
-    (["mpm", "steady", "--quick", "--cell-size", "1e-9"], ("domain.cells", "cells")),
-])
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (["sweep", "--omega-rpm", "10:90:0", "--no-parallel"], ("omega range",)),
+        (["sweep", "--omega-rpm", "10:20:1e-9", "--no-parallel"], ("omega range", "points")),
+        (["forces", "--slip", "nan"], ("--slip", "nan")),
+        (["forces", "--sinkage-mm", "5,inf"], ("--sinkage-mm",)),
+        (["mpm", "collect", ".", "--from", "nan"], ("--from", "nan")),
+        (["mpm", "steady", "--quick", "--cell-size", "1e-9"], ("domain.cells", "cells")),
+    ],
+)
 def test_5_bad_flags_are_one_line_and_exit_2(args, words):
     _refused(_run(*args), *words)
 
@@ -431,5 +478,7 @@ def test_7_the_progress_bar_ends_cleanly_and_an_error_has_its_own_line(tmp_path)
     text = _light_body_on_the_bed()
     r = _run("mpm", "run", _toml(tmp_path, text))
     assert r.exit_code == 1
-    assert any(line.startswith("error: body escape") or line.startswith("error: body CFL") or line.startswith("error: NaN")
-               for line in r.output.splitlines()), r.output
+    assert any(
+        line.startswith("error: body escape") or line.startswith("error: body CFL") or line.startswith("error: NaN")
+        for line in r.output.splitlines()
+    ), r.output

@@ -52,9 +52,11 @@ def test_reproduce_mpm_takes_the_sweep_csv_of_a_runs_folder_without_run_folders(
     from intrusim.analysis.sweep import SweepResult
 
     rec = dict(slip=0.4, velocity_std=float("nan"), sinkage_std=float("nan"), drift=0.1, settled=True, error="")
-    rows = [{**rec, "omega_rpm": 20.0, "ok": True, "velocity": 0.12, "sinkage": 0.041},
-            {**rec, "omega_rpm": 45.0, "ok": True, "velocity": 0.20, "sinkage": 0.053},
-            {**rec, "omega_rpm": 90.0, "ok": False, "velocity": 0.1, "sinkage": 0.04, "error": "not steady"}]
+    rows = [
+        {**rec, "omega_rpm": 20.0, "ok": True, "velocity": 0.12, "sinkage": 0.041},
+        {**rec, "omega_rpm": 45.0, "ok": True, "velocity": 0.20, "sinkage": 0.053},
+        {**rec, "omega_rpm": 90.0, "ok": False, "velocity": 0.1, "sinkage": 0.04, "error": "not steady"},
+    ]
     SweepResult("grousered_wheel", "mpm", None, rows).to_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
     r = runner.invoke(app, ["reproduce", "fig3ab", "--quick", "--runs", str(tmp_path), "--out", str(tmp_path / "f")])
     assert r.exit_code == 0, r.output

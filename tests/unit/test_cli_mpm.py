@@ -65,8 +65,10 @@ def test_run_on_its_own_folder_goes_on_a_later_end_extends_it_and_another_config
         assert a["kinetic_energy"] == b["kinetic_energy"] and a["grain_mass"] == b["grain_mass"]
     assert json.loads((out / "config.json").read_text())["config"]["time"]["t_end"] == 0.035
     before = {q.name: q.read_bytes() for q in out.iterdir() if q.is_file()}
-    for text, key in ((TINY.replace("cells = [10, 10]", "cells = [20, 20]"), "domain.cells"),
-                      (TINY.replace("t_end = 0.02", "t_end = 0.01"), "time.t_end")):
+    for text, key in (
+        (TINY.replace("cells = [10, 10]", "cells = [20, 20]"), "domain.cells"),
+        (TINY.replace("t_end = 0.02", "t_end = 0.01"), "time.t_end"),
+    ):
         other = tmp_path / "other.toml"
         other.write_text(text)
         r = runner.invoke(app, ["mpm", "run", str(other), "--out", str(out)])
@@ -115,7 +117,9 @@ def test_flip_reaches_the_solver_config_and_a_share_outside_0_1_is_refused():
 
     case = _case("wheel", True, None, None, None, flip=1.0)
     assert mpm_config(case.scenario, case.mpm, 30.0).transfer.flip == 1.0
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.flip is None  # the default
+    assert (
+        mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.flip is None
+    )  # the default
     for cmd in ("steady", "sweep"):
         r = runner.invoke(app, ["mpm", cmd, "--quick", "--flip", "1.5"])
         assert r.exit_code == 2 and "flip must be in [0, 1]" in r.output
@@ -184,8 +188,12 @@ def test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_comp
 
     assert _case("wheel", True, None, None, None, treadmill="0.5,0.35").mpm.treadmill == (0.5, 0.35)
     assert _case("wheel", True, None, None, None).mpm.treadmill is None
-    for bad, reason in (("0.5", "two numbers"), ("0.5,x", "comma-separated numbers"),
-                        ("0.35,0.5", "x_target < x_trigger"), ("0.1,0.05", "ahead of start_x")):
+    for bad, reason in (
+        ("0.5", "two numbers"),
+        ("0.5,x", "comma-separated numbers"),
+        ("0.35,0.5", "x_target < x_trigger"),
+        ("0.1,0.05", "ahead of start_x"),
+    ):
         r = runner.invoke(app, ["mpm", "steady", "--quick", "--treadmill", bad, "--out", str(tmp_path / "t")])
         assert r.exit_code == 2 and reason in r.output, (bad, r.output)
     assert not any((tmp_path / "t").rglob("*.csv"))  # nothing ran
@@ -205,8 +213,12 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     run_dir = tmp_path / "grousered_wheel_60rpm"
     assert (run_dir / "result.json").exists()
     before = {p.name: p.read_bytes() for p in run_dir.iterdir()}
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"])
-    assert r.exit_code == 2 and "another configuration (differs in contact, contact_band_cells)" in r.output.replace("\n", " ")
+    r = runner.invoke(
+        app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"]
+    )
+    assert r.exit_code == 2 and "another configuration (differs in contact, contact_band_cells)" in r.output.replace(
+        "\n", " "
+    )
     assert {p.name: p.read_bytes() for p in run_dir.iterdir()} == before
     # `mpm collect` gathers the finished run into the sweep CSV that reproduce/calibrate read
     from intrusim.analysis.sweep import SweepResult
@@ -225,10 +237,14 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     rows = list(csv.DictReader((run_dir / "timeseries.csv").open()))
     vx = [float(row["vx"]) for row in rows if float(row["time"]) > 0.9]
     assert rec["window_start"] > 0.9 and rec["velocity"] == pytest.approx(sum(vx) / len(vx), rel=1e-12)
-    drops = [d for t, d in json.loads((run_dir / "progress.json").read_text())["drops"] if t > 0.9 and d == d]  # measured ones
+    drops = [
+        d for t, d in json.loads((run_dir / "progress.json").read_text())["drops"] if t > 0.9 and d == d
+    ]  # measured ones
     assert rec["surface_drop"] == pytest.approx(sum(drops) / len(drops), rel=1e-12)
     # --last: each run over its own last seconds (here the same window as --from 0.9)
-    r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--last", str(done["window"][1] - 0.9), "--out", str(late)])
+    r = runner.invoke(
+        app, ["mpm", "collect", str(tmp_path), "--last", str(done["window"][1] - 0.9), "--out", str(late)]
+    )
     assert r.exit_code == 0, r.output
     assert SweepResult.from_csv(late).records[0]["velocity"] == pytest.approx(rec["velocity"], rel=1e-12)
     for bad in (["--last", "0"], ["--last", "0.2", "--from", "0.9"]):
@@ -245,8 +261,22 @@ def test_a_scenario_toml_runs_in_mpm_as_in_drft(tmp_path):
     `intrusim steady` takes; a missing file is refused before any compute."""
     toml = tmp_path / "light.toml"
     toml.write_text('body = "wheel"\nname = "light_wheel"\nmass_z = 3.15\n')
-    r = runner.invoke(app, ["mpm", "steady", "--scenario", str(toml), "--quick", "--omega-rpm", "30",
-                            "--out", str(tmp_path / "runs"), "--threads", "1"])
+    r = runner.invoke(
+        app,
+        [
+            "mpm",
+            "steady",
+            "--scenario",
+            str(toml),
+            "--quick",
+            "--omega-rpm",
+            "30",
+            "--out",
+            str(tmp_path / "runs"),
+            "--threads",
+            "1",
+        ],
+    )
     assert r.exit_code == 0, r.output
     info = json.loads((tmp_path / "runs" / "light_wheel_30rpm" / "locomotion.json").read_text())
     assert info["scenario"]["mass_z"] == 3.15 and info["body"] == "wheel"

@@ -43,7 +43,9 @@ def test_compiled_path_is_used_and_theta_follows_the_ramp():
 def test_custom_free_surface_falls_back_to_python():
     shape = get_scenario("wheel").rft_shape()
     model = make_force_model("drft", shape, structural="wheel-rear-half")
-    custom = ResistiveForceModel(shape.elements, lam=1.0, free_surface=WheelRearHalf(shape.radius, psi=lambda x: 0.5 * x))
+    custom = ResistiveForceModel(
+        shape.elements, lam=1.0, free_surface=WheelRearHalf(shape.radius, psi=lambda x: 0.5 * x)
+    )
     assert model.compiled_spec() is not None and custom.compiled_spec() is None
     sc = get_scenario("wheel")
     s = IntegratorSettings(dt=0.01)

@@ -18,7 +18,9 @@ def test_fig7bc_quick_csv_is_nondimensionalised(tmp_path):
         assert length == 0.19
         assert float(r["v_over_sqrt_gl"]) == pytest.approx(float(r["velocity_m_s"]) / math.sqrt(9.8 * length))
         assert float(r["sinkage_over_l"]) == pytest.approx(float(r["sinkage_m"]) / length)
-        assert float(r["omega_over_omega0"]) == pytest.approx(float(r["omega_rpm"]) * 2 * math.pi / 60 / math.sqrt(9.8 / length))
+        assert float(r["omega_over_omega0"]) == pytest.approx(
+            float(r["omega_rpm"]) * 2 * math.pi / 60 / math.sqrt(9.8 / length)
+        )
 
 
 def test_relative_difference_interpolates_the_model_at_the_reference_points():
@@ -45,8 +47,10 @@ def test_vertical_plate_lambda_recovers_a_synthetic_static_plus_inertial_law():
     rho, area, lam = 2500.0, 0.16, 2.8
     depth = np.linspace(-0.005, 0.08, 200)
     static = 2e5 * np.clip(depth, 0, None) + 3e3 * np.sin(40 * depth)  # any static curve
-    series = [{"speed_m_s": v, "depth_m": list(depth), "force_N_per_m": list(static + lam * rho * area * v**2)}
-              for v in (0.1, 0.5, 1.0, 2.0)]
+    series = [
+        {"speed_m_s": v, "depth_m": list(depth), "force_N_per_m": list(static + lam * rho * area * v**2)}
+        for v in (0.1, 0.5, 1.0, 2.0)
+    ]
     # the slowest run is taken as static, so its own v^2 part is subtracted from the others
     got, grid, f_static = static_plus_inertial_lambda(series, rho, area, min_depth=0.01)
     expected = lam * sum((v**2 - 0.01) * v**2 for v in (0.5, 1.0, 2.0)) / sum(v**4 for v in (0.5, 1.0, 2.0))

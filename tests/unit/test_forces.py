@@ -66,7 +66,9 @@ def test_mirrored_body_mirrored_force(kind):
 
 def test_trailing_face_of_plate_is_free():
     p = g.plate(0.1, 0.05, n_elements=4)
-    top = ResistiveForceModel(g.SurfaceElements(p.elements.midpoint[:4], p.elements.normal[:4], p.elements.length[:4], 0.05), lam=2.0)
+    top = ResistiveForceModel(
+        g.SurfaceElements(p.elements.midpoint[:4], p.elements.normal[:4], p.elements.length[:4], 0.05), lam=2.0
+    )
     # top face (normal +z) of a plate moving down is trailing: no force at any depth
     assert top.wrench(BodyState(0, -0.05, 0, 0, -1.0, 0)).as_array() == pytest.approx([0, 0, 0])
 

@@ -73,8 +73,9 @@ def test_lowest_free_contact_finds_the_wake_not_the_surface():
     wheel = circle(0.1, 0.1, 256).polygon + [0.0, 0.04]
     pos, p = synthetic_bed(0.01)
     h = 0.004
-    got = rear_contact_drop(pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h,
-                            rule="lowest_free")
+    got = rear_contact_drop(
+        pos, p, wheel, (0.0, 0.04), +1.0, 0.0, band=1.5 * h, pressure_tol=0.5 * 638 * 9.8 * h, rule="lowest_free"
+    )
     assert got > 0.04  # deeper than the 1 cm drop: near the wheel's bottom (0.06 m below the surface)
     assert got == pytest.approx(0.06, abs=3 * h)
     with pytest.raises(InputError, match="rule"):

@@ -4,7 +4,13 @@ import pytest
 from pydantic import ValidationError
 
 from intrusim.mpm.config import (
-    BedConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig, Rectangle, WallConfig,
+    BedConfig,
+    DomainConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    Rectangle,
+    WallConfig,
 )
 
 
@@ -24,8 +30,10 @@ from intrusim.mpm.config import (
         (lambda: MPMConfig(bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=2, z1=0.5)])), "outside the domain"),
         (lambda: MPMConfig(gravity=(0.0, -9.8), unknown_key=1), "unknown_key"),
         (lambda: MaterialConfig(rho_floor_fraction=1.0), "rho_floor_fraction"),
-        (lambda: MPMConfig(bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=1, z1=0.5)], density_ratio=0.05)),
-         "below material.rho_floor_fraction"),
+        (
+            lambda: MPMConfig(bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=1, z1=0.5)], density_ratio=0.05)),
+            "below material.rho_floor_fraction",
+        ),
     ],
 )
 def test_bad_config_names_the_parameter(build, name):

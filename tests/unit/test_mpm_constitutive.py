@@ -6,8 +6,16 @@ import pytest
 from intrusim.mpm.backend import ensure_initialized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import (
-    DruckerPragerSeparation, MuIDruckerPrager, drucker_prager_update, drucker_prager_update_numpy, material_from_config, mu_i_update,
-    mu_i_update_numpy, pressure, stress_update_batch, stress_update_kernel,
+    DruckerPragerSeparation,
+    MuIDruckerPrager,
+    drucker_prager_update,
+    drucker_prager_update_numpy,
+    material_from_config,
+    mu_i_update,
+    mu_i_update_numpy,
+    pressure,
+    stress_update_batch,
+    stress_update_kernel,
 )
 
 MAT = DruckerPragerSeparation.from_config(MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3))
@@ -20,8 +28,13 @@ def taichi_update(sigma, s_yy, L, rho, dt=DT, prm=MAT.params, update=drucker_pra
 
     ensure_initialized(precision="f32")
     n = len(sigma)
-    arrs = [ti.Matrix.ndarray(2, 2, ti.f32, shape=n), ti.ndarray(ti.f32, shape=n),
-            ti.Matrix.ndarray(2, 2, ti.f32, shape=n), ti.ndarray(ti.f32, shape=n), ti.ndarray(ti.f32, shape=n)]
+    arrs = [
+        ti.Matrix.ndarray(2, 2, ti.f32, shape=n),
+        ti.ndarray(ti.f32, shape=n),
+        ti.Matrix.ndarray(2, 2, ti.f32, shape=n),
+        ti.ndarray(ti.f32, shape=n),
+        ti.ndarray(ti.f32, shape=n),
+    ]
     for a, d in zip(arrs, (sigma, s_yy, L, rho, np.zeros(n))):
         a.from_numpy(np.asarray(d, np.float32))
     stress_update_kernel(len(prm), update)(*arrs, dt, prm)
@@ -106,7 +119,8 @@ def test_taichi_matches_numpy_random():
 
 
 VISCOUS = DruckerPragerSeparation.from_config(
-    MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3, viscosity=20.0))
+    MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3, viscosity=20.0)
+)
 
 
 def test_the_paper_law_has_four_parameters_and_the_viscosity_a_fifth():
@@ -127,7 +141,10 @@ def test_viscous_return_stops_at_the_overstress(update):
         p = pressure(sig, s_yy)[0]
         assert p == pytest.approx(1000.0, rel=1e-5)  # tr D = 0: the pressure is unchanged
     (sig_v, syy_v, dg_v), (sig_0, syy_0, dg_0) = out_v, out_0
-    dev = lambda sig, s_yy: np.sqrt(0.5 * (((sig[0] + 1000.0 * np.eye(2)) ** 2).sum() + (s_yy[0] + 1000.0) ** 2))
+
+    def dev(sig, s_yy):
+        return np.sqrt(0.5 * (((sig[0] + 1000.0 * np.eye(2)) ** 2).sum() + (s_yy[0] + 1000.0) ** 2))
+
     tau_v, tau_0 = dev(sig_v, syy_v), dev(sig_0, syy_0)
     assert tau_0 == pytest.approx(0.5 * 1000.0, rel=1e-5)
     assert tau_v - 0.5 * 1000.0 == pytest.approx(20.0 * dg_v[0] / DT, rel=1e-4)  # the overstress is eta gdot
@@ -146,8 +163,13 @@ def test_viscous_taichi_matches_numpy_random():
     assert np.max(np.abs(a[2] - c[2])) > 1e-4  # the viscosity changes the plastic increments
 
 
-MU_I_CFG = MaterialConfig(rho_c=900.0, mu_s=0.5, youngs_modulus=1e6, poisson_ratio=0.3,
-                          mu_i=MuIConfig(grain_diameter=1e-3, grain_density=1100.0, delta_mu=0.26, i0=0.279))
+MU_I_CFG = MaterialConfig(
+    rho_c=900.0,
+    mu_s=0.5,
+    youngs_modulus=1e6,
+    poisson_ratio=0.3,
+    mu_i=MuIConfig(grain_diameter=1e-3, grain_density=1100.0, delta_mu=0.26, i0=0.279),
+)
 MU_I = material_from_config(MU_I_CFG)
 
 
@@ -190,7 +212,8 @@ def test_mu_i_return_stops_at_mu_of_its_own_inertial_number(update, rate):
     tau_0 = _tau(sig_0, syy_0, pressure(sig_0, syy_0))[0]
     assert tau_0 == pytest.approx(0.5 * 1000.0, rel=1e-5)  # delta_mu = 0: the rate-independent return
     assert _tau(sig, s_out, p)[0] + MU_I.shear_modulus * dg[0] == pytest.approx(
-        tau_0 + MU_I.shear_modulus * dg_0[0], rel=1e-5)
+        tau_0 + MU_I.shear_modulus * dg_0[0], rel=1e-5
+    )
 
 
 def test_mu_i_friction_stays_between_mu_s_and_mu_2_and_taichi_matches_numpy():

@@ -86,7 +86,7 @@ def test_the_default_share_falls_with_dt_at_a_fixed_damping_rate():
     tau = s.cfg.transfer.pic_time * s.h * np.sqrt(mat.rho_c / mat.youngs_modulus)
     assert s.flip == pytest.approx(np.exp(-s.dt / tau), rel=1e-12)
     half = Solver(s.cfg.model_copy(update={"time": s.cfg.time.model_copy(update={"dt": s.dt / 2})}))
-    assert half.flip ** 2 == pytest.approx(s.flip, rel=1e-12)
+    assert half.flip**2 == pytest.approx(s.flip, rel=1e-12)
     assert 0.9 < s.flip < 1.0
 
 

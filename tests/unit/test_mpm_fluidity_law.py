@@ -34,7 +34,7 @@ def test_sweeps_on_the_box_of_the_material_equal_sweeps_on_every_node():
     rng = np.random.default_rng(5)
     shape, box = (20, 14), (3, 15, 2, 9)
     inside = np.zeros(shape, bool)
-    inside[box[0]:box[1], box[2]:box[3]] = True
+    inside[box[0] : box[1], box[2] : box[3]] = True
     dmu = np.where(inside, rng.uniform(0.0, 0.2, shape), 0.0)
     gloc = np.where(inside, rng.uniform(0.0, 20.0, shape), 0.0)
     mass = np.where(inside & (rng.uniform(size=shape) < 0.9), 1.0, 0.0)
@@ -88,12 +88,19 @@ def _relaxed(tau_t, p, excess):
 
     ensure_initialized()
     real = ensure_initialized().np_real
-    tau_t, p, excess = (np.ascontiguousarray(a, real) for a in np.broadcast_arrays(*map(np.atleast_1d, (tau_t, p, excess))))
+    tau_t, p, excess = (
+        np.ascontiguousarray(a, real) for a in np.broadcast_arrays(*map(np.atleast_1d, (tau_t, p, excess)))
+    )
     out = np.zeros_like(tau_t)
 
     @ti.kernel
-    def run(t: ti.types.ndarray(), pp: ti.types.ndarray(), e: ti.types.ndarray(), o: ti.types.ndarray(),
-            prm: ti.types.vector(5, float)):
+    def run(
+        t: ti.types.ndarray(),
+        pp: ti.types.ndarray(),
+        e: ti.types.ndarray(),
+        o: ti.types.ndarray(),
+        prm: ti.types.vector(5, float),
+    ):
         for k in range(t.shape[0]):
             o[k] = relaxed_tau(t[k], pp[k], e[k], DT, prm)
 

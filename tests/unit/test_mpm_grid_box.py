@@ -48,7 +48,7 @@ def test_walls_act_in_the_fused_grid_update():
     floor = v[:, : s.grid.pad + 1]  # nodes at or below z = 0
     assert np.all(floor[..., 1] >= -1e-7)
     assert np.all(v[: s.grid.pad + 1, :, 0] >= -1e-7)  # nothing moves into the left wall
-    assert np.all(v[-s.grid.pad - 1:, :, 0] <= 1e-7)  # nor into the right wall
+    assert np.all(v[-s.grid.pad - 1 :, :, 0] <= 1e-7)  # nor into the right wall
 
 
 def test_atomic_and_chunked_particle_passes_agree():

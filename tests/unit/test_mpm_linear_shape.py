@@ -4,8 +4,16 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from intrusim.mpm.config import (BackendConfig, BedConfig, DomainConfig, MaterialConfig, MPMConfig, Rectangle, TimeConfig,
-                                 TransferConfig)
+from intrusim.mpm.config import (
+    BackendConfig,
+    BedConfig,
+    DomainConfig,
+    MaterialConfig,
+    MPMConfig,
+    Rectangle,
+    TimeConfig,
+    TransferConfig,
+)
 from intrusim.mpm.constitutive import material_from_config
 from intrusim.mpm.solver import Solver
 from intrusim.mpm.transfer import g2p_kernel, p2g_kernel

@@ -34,13 +34,13 @@ def test_the_pads_are_copies_of_the_last_point_and_sigma_is_stored_once():
     full = pts.to_numpy(pads=True)
     assert len(full["x"]) == 3 * LANES
     for name, a in full.items():
-        assert np.array_equal(a[n:], np.repeat(a[n - 1: n], LANES - 3, axis=0)), name
+        assert np.array_equal(a[n:], np.repeat(a[n - 1 : n], LANES - 3, axis=0)), name
     blocks = pts.sigma.to_numpy()  # (blocks, 3, LANES): xx, zz, xz of each block's points
     assert blocks.shape == (3, 3, LANES)
     s = data["sigma"].astype(np.float32)
-    np.testing.assert_array_equal(blocks[1, XX], s[LANES: 2 * LANES, 0, 0])
-    np.testing.assert_array_equal(blocks[1, ZZ], s[LANES: 2 * LANES, 1, 1])
-    np.testing.assert_array_equal(blocks[1, XZ], s[LANES: 2 * LANES, 0, 1])
+    np.testing.assert_array_equal(blocks[1, XX], s[LANES : 2 * LANES, 0, 0])
+    np.testing.assert_array_equal(blocks[1, ZZ], s[LANES : 2 * LANES, 1, 1])
+    np.testing.assert_array_equal(blocks[1, XZ], s[LANES : 2 * LANES, 0, 1])
 
 
 def test_an_unsymmetric_stress_is_stored_as_its_symmetric_part():

@@ -22,8 +22,18 @@ def test_one_step_matches_numpy_reference():
     state = {k: np.asarray(a, np.float64) for k, a in d.items()}
     for _ in range(3):
         s.step()
-        numpy_step(state, s.h, s.grid.pad, s.grid.shape, cfg.domain.size[0], s.dt, s.gravity,
-                   s.material.params, tuple(zip(s.walls.kinds, s.walls.mus)), cfg.material.rho_floor)
+        numpy_step(
+            state,
+            s.h,
+            s.grid.pad,
+            s.grid.shape,
+            cfg.domain.size[0],
+            s.dt,
+            s.gravity,
+            s.material.params,
+            tuple(zip(s.walls.kinds, s.walls.mus)),
+            cfg.material.rho_floor,
+        )
     out = s.particles.to_numpy()
     np.testing.assert_allclose(out["x"], state["x"], atol=1e-6)
     np.testing.assert_allclose(out["v"], state["v"], atol=2e-4)

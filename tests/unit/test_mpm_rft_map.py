@@ -46,7 +46,9 @@ def test_alpha_is_force_over_length_and_current_depth():
     a = measure_alpha(rows, c)
     assert a["alpha_z"] == pytest.approx(100.0 / c.plate_length)
     assert a["alpha_z_std"] == pytest.approx(0.0, abs=1e-9)
-    assert a["alpha_x"] > 0 and a["depth_mean"] == pytest.approx(np.mean(c.bed_height - np.linspace(0.12, 0.10, 31)[16:]))
+    assert a["alpha_x"] > 0 and a["depth_mean"] == pytest.approx(
+        np.mean(c.bed_height - np.linspace(0.12, 0.10, 31)[16:])
+    )
 
 
 def test_the_nonlocal_law_is_an_option_of_the_plate():

@@ -8,8 +8,15 @@ import pytest
 
 from intrusim.geometry import posed_polygon
 from intrusim.mpm.config import (
-    BedConfig, DomainConfig, IntruderConfig, MPMConfig, ObstacleConfig, OutputConfig, PrescribedMotion,
-    Rectangle, TimeConfig,
+    BedConfig,
+    DomainConfig,
+    IntruderConfig,
+    MPMConfig,
+    ObstacleConfig,
+    OutputConfig,
+    PrescribedMotion,
+    Rectangle,
+    TimeConfig,
 )
 from intrusim.mpm.solver import Solver
 
@@ -23,8 +30,9 @@ def _config(run_dir, t_end: float) -> MPMConfig:
         domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.2, z1=0.08)]),
         obstacles=[ObstacleConfig(vertices=GATE, mu=0.2, removal_time=2e-3)],
-        intruders=[IntruderConfig(vertices=SQUARE, x=0.1, z=0.1, mu_w=0.35,
-                                  motion=PrescribedMotion(vx=0.5, omega=-20.0))],
+        intruders=[
+            IntruderConfig(vertices=SQUARE, x=0.1, z=0.1, mu_w=0.35, motion=PrescribedMotion(vx=0.5, omega=-20.0))
+        ],
         time=TimeConfig(t_end=t_end),
         output=OutputConfig(directory=str(run_dir), record_every=1e-3, snapshot_every=1e-3),
     )
@@ -65,8 +73,9 @@ def test_bodies_are_written_at_their_pose(run):
     assert pose["x"] == pytest.approx(0.1 + 0.5 * t_snap)
     assert pose["z"] == pytest.approx(0.1)
     assert pose["theta"] == pytest.approx(-20.0 * t_snap)
-    np.testing.assert_allclose(end.points[:, [0, 2]], posed_polygon(np.array(SQUARE), pose["x"], pose["z"], pose["theta"]),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        end.points[:, [0, 2]], posed_polygon(np.array(SQUARE), pose["x"], pose["z"], pose["theta"]), atol=1e-12
+    )
     assert (pose["vx"], pose["omega"]) == pytest.approx((0.5, -20.0))
 
 

@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from intrusim.mpm.config import (
-    BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MPMConfig, ObstacleConfig, Rectangle,
+    BedConfig,
+    CoupledMotion,
+    DomainConfig,
+    IntruderConfig,
+    MPMConfig,
+    ObstacleConfig,
+    Rectangle,
 )
 from intrusim.mpm.solver import Solver
 from intrusim.mpm.step_graph import Launch, StepGraph
@@ -17,13 +23,18 @@ def _config(step_graph: bool) -> MPMConfig:
     return MPMConfig(
         domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.2, z1=0.08)]),
-        obstacles=[ObstacleConfig(vertices=[(0.2, 0.0), (0.21, 0.0), (0.21, 0.12), (0.2, 0.12)],
-                                  mu=0.2, removal_time=4e-4)],
-        intruders=[IntruderConfig(
-            vertices=square, x=0.1, z=0.1, mu_w=0.35,
-            motion=CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5,
-                                 external_force=(0.2, -3.0)),
-        )],
+        obstacles=[
+            ObstacleConfig(vertices=[(0.2, 0.0), (0.21, 0.0), (0.21, 0.12), (0.2, 0.12)], mu=0.2, removal_time=4e-4)
+        ],
+        intruders=[
+            IntruderConfig(
+                vertices=square,
+                x=0.1,
+                z=0.1,
+                mu_w=0.35,
+                motion=CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5, external_force=(0.2, -3.0)),
+            )
+        ],
         backend=dict(step_graph=step_graph),
     )
 

@@ -6,8 +6,18 @@ import numpy as np
 import pytest
 
 from intrusim.mpm.config import (
-    BedConfig, BoundaryConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig, ObstacleConfig,
-    OutputConfig, PrescribedMotion, Rectangle, TimeConfig, WallConfig,
+    BedConfig,
+    BoundaryConfig,
+    DomainConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    ObstacleConfig,
+    OutputConfig,
+    PrescribedMotion,
+    Rectangle,
+    TimeConfig,
+    WallConfig,
 )
 from intrusim.mpm.footing import FootingCase, n_gamma_at
 from intrusim.mpm.solver import Solver
@@ -41,8 +51,11 @@ def _wall_config(offset_cells: float, contact: str = "surface", band: float = 1.
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=x0 - 0.001, z1=0.08)]),
         boundaries=BoundaryConfig(floor=WallConfig(kind="frictionless")),
         obstacles=[ObstacleConfig(vertices=[(x0, 0.0), (x0 + h, 0.0), (x0 + h, 0.1), (x0, 0.1)])],
-        contact=contact, contact_band_cells=band,
-        time=TimeConfig(t_end=0.4), output=OutputConfig(record_every=0.1), backend=BACKEND,
+        contact=contact,
+        contact_band_cells=band,
+        time=TimeConfig(t_end=0.4),
+        output=OutputConfig(record_every=0.1),
+        backend=BACKEND,
     )
 
 
@@ -65,12 +78,20 @@ def _plate_config(contact: str = "surface", band: float = 1.0) -> MPMConfig:
     return MPMConfig(
         domain=DomainConfig(size=(0.3, 0.1), cells=(60, 20)),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.3, z1=0.06)]),
-        intruders=[IntruderConfig(
-            vertices=[(-h / 2, -0.04), (h / 2, -0.04), (h / 2, 0.04), (-h / 2, 0.04)], mu_w=0.35,
-            x=0.08, z=0.06, motion=PrescribedMotion(vx=0.3, ramp_time=0.01),
-        )],
-        contact=contact, contact_band_cells=band,
-        time=TimeConfig(t_end=0.2), output=OutputConfig(record_every=0.05), backend=BACKEND,
+        intruders=[
+            IntruderConfig(
+                vertices=[(-h / 2, -0.04), (h / 2, -0.04), (h / 2, 0.04), (-h / 2, 0.04)],
+                mu_w=0.35,
+                x=0.08,
+                z=0.06,
+                motion=PrescribedMotion(vx=0.3, ramp_time=0.01),
+            )
+        ],
+        contact=contact,
+        contact_band_cells=band,
+        time=TimeConfig(t_end=0.2),
+        output=OutputConfig(record_every=0.05),
+        backend=BACKEND,
     )
 
 

@@ -5,8 +5,15 @@ import pytest
 
 from intrusim._checks import InputError
 from intrusim.mpm.config import (
-    BedConfig, CoupledMotion, DomainConfig, FluidityConfig, IntruderConfig, MaterialConfig, MPMConfig,
-    ObstacleConfig, Rectangle,
+    BedConfig,
+    CoupledMotion,
+    DomainConfig,
+    FluidityConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    ObstacleConfig,
+    Rectangle,
 )  # fmt: skip
 from intrusim.mpm.solver import Solver
 
@@ -92,8 +99,15 @@ def test_a_checkpoint_after_a_shift_restores_into_a_new_solver_and_goes_on_ident
     assert other.record()["x"] == pytest.approx(s.record()["x"], abs=1e-12)
 
 
-@pytest.mark.parametrize("shift, match", [(0.0, "whole number of cells"), (0.015, "whole number of cells"),
-                                          (-H, "whole number of cells"), (0.3, "shorter than the domain")])
+@pytest.mark.parametrize(
+    "shift, match",
+    [
+        (0.0, "whole number of cells"),
+        (0.015, "whole number of cells"),
+        (-H, "whole number of cells"),
+        (0.3, "shorter than the domain"),
+    ],
+)
 def test_bad_shifts_are_refused_before_anything_moves(shift, match):
     s = Solver(_cfg())
     before = s.particles.to_numpy()

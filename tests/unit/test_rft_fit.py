@@ -101,7 +101,9 @@ def test_interpolated_map_holds_its_points_and_the_mirror():
     ax, az = alpha(B, G)
     fn = interpolated_map(B, G, ax, az)
     assert np.allclose(np.array(fn(B, G)), np.array([ax, az]), rtol=1e-9, atol=1e-3)  # N/m^3
-    assert np.allclose(np.array(fn(-0.5 * np.pi + 0 * G, G)), np.array(alpha(0.5 * np.pi, G)), atol=1e-3)  # beta -90 = 90
+    assert np.allclose(
+        np.array(fn(-0.5 * np.pi + 0 * G, G)), np.array(alpha(0.5 * np.pi, G)), atol=1e-3
+    )  # beta -90 = 90
     rng = np.random.default_rng(0)
     b, g = rng.uniform(-1.5, 1.5, 200), rng.uniform(-np.pi, np.pi, 200)
     x, z = fn(b, g)

@@ -17,7 +17,9 @@ def test_wheel_defaults_from_table_s1():
     assert s.rft_shape().outer_diameter == pytest.approx(t["outer_diameter"], abs=5e-4)
     assert s.radius == pytest.approx(0.5 * t["outer_diameter"])
     assert s.force_model.structural == "wheel-rear-half" and s.force_model.lam == 1.0
-    assert np.sqrt(s.gravity * s.length_scale) == pytest.approx(t_scale := table_s1()["scales"]["wheel_velocity_scale"], rel=2e-3)
+    assert np.sqrt(s.gravity * s.length_scale) == pytest.approx(
+        t_scale := table_s1()["scales"]["wheel_velocity_scale"], rel=2e-3
+    )
     assert s.omega_0 * 60 / (2 * np.pi) == pytest.approx(table_s1()["scales"]["wheel_omega_0_rpm"], rel=0.01)
     del t_scale
 
@@ -38,7 +40,9 @@ def test_runner_mass_ratio_is_as_printed_not_6():
 
 def test_toml_partial_override(tmp_path):
     p = tmp_path / "w.toml"
-    p.write_text('body = "wheel"\nname = "heavy"\nmass_z = 12.0\n[force_model]\nlam = 2.0\n[run]\naverage_revolutions = 1\n')
+    p.write_text(
+        'body = "wheel"\nname = "heavy"\nmass_z = 12.0\n[force_model]\nlam = 2.0\n[run]\naverage_revolutions = 1\n'
+    )
     s = load_scenario(p)
     assert s.name == "heavy" and s.mass_z == 12.0 and s.force_model.lam == 2.0 and s.run.average_revolutions == 1
     assert s.force_model.xi == 0.35 and s.mass_x == 23.0  # untouched defaults kept

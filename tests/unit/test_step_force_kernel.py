@@ -50,7 +50,9 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
                 vx, vz = vx0 + scale * rng.normal(), vz0 + scale * rng.normal()
                 z = z0 + dt * vz
                 got = jit._step_force(spec, frame, work, k, z, th, vx, vz, om_i)
-                ref = jit._force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om_i)
+                ref = jit._force(
+                    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om_i
+                )
                 assert got == ref
                 if z < frame[4] or jit.surface_params(fk, fr, fg, fc, fo, vx, om_i)[2] != fwd:
                     used["kernel"] += 1
@@ -67,7 +69,9 @@ def test_outline_sinkage_matches_numpy_formula():
     rng = np.random.default_rng(2)
     z = rng.uniform(-0.1, 0.2, 300)
     th = rng.uniform(-10.0, 10.0, 300)
-    ref = 0.01 - (z[:, None] + np.sin(th)[:, None] * poly[None, :, 0] + np.cos(th)[:, None] * poly[None, :, 1]).min(axis=1)
+    ref = 0.01 - (z[:, None] + np.sin(th)[:, None] * poly[None, :, 0] + np.cos(th)[:, None] * poly[None, :, 1]).min(
+        axis=1
+    )
     assert np.array_equal(outline_sinkage(poly, z, th, 0.01), ref)
     z[5] = np.nan
     assert np.isnan(outline_sinkage(poly, z, th)[5]) and np.isfinite(outline_sinkage(poly, z, th)[6])

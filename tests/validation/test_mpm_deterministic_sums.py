@@ -36,8 +36,15 @@ def _wheel(p2g_chunks: int, deterministic: bool = True, steps: int = 1500) -> So
 def _state(solver: Solver) -> np.ndarray:
     st = solver.intruders[0].state
     p = solver.particles.to_numpy(["x", "v", "sigma"])
-    return np.concatenate([p["x"].ravel(), p["v"].ravel(), p["sigma"].ravel(),
-                           solver.intruders[0].contact.read_impulse(), [st.x, st.z, st.vx, st.vz]])
+    return np.concatenate(
+        [
+            p["x"].ravel(),
+            p["v"].ravel(),
+            p["sigma"].ravel(),
+            solver.intruders[0].contact.read_impulse(),
+            [st.x, st.z, st.vx, st.vz],
+        ]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -94,7 +101,9 @@ def test_float_atomic_sums_are_still_there_when_asked_for():
     assert s.grid.mp_parts.dtype == ti.f32
 
 
-def test_a_restart_with_fixed_point_atomic_sums_reproduces_the_uninterrupted_run(tmp_path, run_killed_after_second_checkpoint):
+def test_a_restart_with_fixed_point_atomic_sums_reproduces_the_uninterrupted_run(
+    tmp_path, run_killed_after_second_checkpoint
+):
     def config(name):
         case = PlateDragCase(depth=0.03, speed=0.3, travel=0.012, cells=(40, 20), domain=(0.2, 0.1), bed_height=0.07)
         cfg = case.config(directory=str(tmp_path / name))
@@ -116,7 +125,9 @@ def test_a_restart_with_fixed_point_atomic_sums_reproduces_the_uninterrupted_run
     assert len(resumed.rows) == len(full.rows)
     diagnostics = ("kinetic_energy", "grain_mass")  # float reductions over the points, reported only
     for a, b in zip(resumed.rows, full.rows):  # the body's state and forces too: the impulse sums are exact
-        assert {k: v for k, v in a.items() if k not in diagnostics} == {k: v for k, v in b.items() if k not in diagnostics}
+        assert {k: v for k, v in a.items() if k not in diagnostics} == {
+            k: v for k, v in b.items() if k not in diagnostics
+        }
         for k in diagnostics:
             assert a[k] == pytest.approx(b[k], rel=1e-12)
 

@@ -10,7 +10,13 @@ import numpy as np
 import taichi as ti
 
 from intrusim.mpm.config import (
-    BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MPMConfig, PrescribedMotion, Rectangle,
+    BedConfig,
+    CoupledMotion,
+    DomainConfig,
+    IntruderConfig,
+    MPMConfig,
+    PrescribedMotion,
+    Rectangle,
 )
 from intrusim.mpm.contact import node_box
 from intrusim.mpm.solver import Solver
@@ -45,8 +51,9 @@ def test_device_dynamics_follow_the_host_dynamics():
     np.testing.assert_allclose(bd, bh, rtol=1e-12, atol=1e-12)  # measured: 7e-17 in vz
     xh, xd = host.particles.to_numpy(["x"])["x"], device.particles.to_numpy(["x"])["x"]
     assert np.max(np.abs(xd - xh)) < 1e-7  # m (measured: identical)
-    np.testing.assert_allclose(device.intruders[0].contact.read_impulse(), host.intruders[0].contact.read_impulse(),
-                               rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        device.intruders[0].contact.read_impulse(), host.intruders[0].contact.read_impulse(), rtol=1e-9, atol=1e-12
+    )
 
 
 def test_reading_the_state_does_not_disturb_the_run():
@@ -80,14 +87,18 @@ def test_a_state_changed_between_steps_reaches_the_device():
 def _three_bodies(device_bodies: bool) -> MPMConfig:
     """Two coupled squares (different masses, pushes and spins) and a prescribed one in one bed."""
     square = [(-0.02, -0.02), (0.02, -0.02), (0.02, 0.02), (-0.02, 0.02)]
-    coupled = [CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5, external_force=(0.2, -3.0)),
-               CoupledMotion(omega=15.0, ramp_time=2e-3, mass_x=0.8, mass_z=0.3, external_force=(-0.1, 0.0),
-                             free_x=False)]
+    coupled = [
+        CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5, external_force=(0.2, -3.0)),
+        CoupledMotion(omega=15.0, ramp_time=2e-3, mass_x=0.8, mass_z=0.3, external_force=(-0.1, 0.0), free_x=False),
+    ]
     bodies = [IntruderConfig(vertices=square, x=x, z=0.1, mu_w=0.35, motion=m) for x, m in zip((0.07, 0.16), coupled)]
     bodies.append(IntruderConfig(vertices=square, x=0.24, z=0.1, mu_w=0.35, motion=PrescribedMotion(vz=-0.2)))
-    return MPMConfig(domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),
-                     bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.3, z1=0.08)]),
-                     intruders=bodies, backend=dict(device_bodies=device_bodies))
+    return MPMConfig(
+        domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),
+        bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.3, z1=0.08)]),
+        intruders=bodies,
+        backend=dict(device_bodies=device_bodies),
+    )
 
 
 def test_each_of_several_bodies_keeps_its_own_dynamics():
@@ -135,7 +146,8 @@ def test_the_contact_kernel_box_is_the_disc_clipped_to_the_grid():
 
 
 def test_a_restart_of_a_body_advanced_on_the_device_reproduces_the_run_bit_for_bit(
-        tmp_path, run_killed_after_second_checkpoint):
+    tmp_path, run_killed_after_second_checkpoint
+):
     # the checkpoint carries the device's pose and the impulse one step back; with exact sums (one
     # grid copy in 64-bit fixed point: the body's impulse too) the resumed run is the uninterrupted one
     def config(name):

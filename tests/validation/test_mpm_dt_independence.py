@@ -29,8 +29,12 @@ def collapse(flip: float | None, cfl: float) -> dict[str, float]:
     rows = solver.run()
     d = solver.particle_fields()
     x, m = d["x"][:, 0], d["mass"]
-    return {"runout": float(np.quantile(x, 0.99)), "centre": float((m * x).sum() / m.sum()),
-            "ke": rows[-1]["kinetic_energy"], "dt": solver.dt}
+    return {
+        "runout": float(np.quantile(x, 0.99)),
+        "centre": float((m * x).sum() / m.sum()),
+        "ke": rows[-1]["kinetic_energy"],
+        "dt": solver.dt,
+    }
 
 
 @pytest.fixture(scope="module")

@@ -27,7 +27,9 @@ def _with_fluidity(cfg):
 def drag():
     out = {}
     for speed in SPEEDS:
-        cfg = PlateDragCase(depth=0.02, speed=speed, travel=0.03, cells=(60, 30), contact="band").config()  # as measured
+        cfg = PlateDragCase(
+            depth=0.02, speed=speed, travel=0.03, cells=(60, 30), contact="band"
+        ).config()  # as measured
         out[(speed, "paper")] = -steady_force(Solver(cfg).run(), "fx")
         out[(speed, "nonlocal")] = -steady_force(Solver(_with_fluidity(cfg)).run(), "fx")
     return out
@@ -58,7 +60,10 @@ def test_a_killed_nonlocal_run_resumes_on_the_uninterrupted_track(tmp_path, run_
     ref, out = full.particle_fields(), resumed.particle_fields()
     np.testing.assert_array_equal(out["x"], ref["x"])
     np.testing.assert_array_equal(out["sigma"], ref["sigma"])
-    fx = lambda rows: np.array([r["fx"] for r in rows])
+
+    def fx(rows):
+        return np.array([r["fx"] for r in rows])
+
     np.testing.assert_allclose(fx(resumed.rows), fx(full.rows), rtol=1e-3)
 
 
@@ -66,8 +71,11 @@ def test_the_atomic_sources_kernel_drags_as_the_chunked_one():
     """p2g_chunks = 1 (what a GPU runs: momentum P2G and fluidity sources with atomic adds)."""
     forces = []
     for chunks in (16, 1):
-        cfg = _with_fluidity(PlateDragCase(depth=0.02, speed=0.3, travel=0.015, cells=(40, 20), domain=(0.2, 0.1),
-                                           bed_height=0.07).config())
+        cfg = _with_fluidity(
+            PlateDragCase(
+                depth=0.02, speed=0.3, travel=0.015, cells=(40, 20), domain=(0.2, 0.1), bed_height=0.07
+            ).config()
+        )
         cfg = cfg.model_copy(update={"backend": cfg.backend.model_copy(update={"p2g_chunks": chunks})})
         solver = Solver(cfg)
         assert solver.fluidity.chunked == (chunks > 1)

@@ -13,8 +13,13 @@ def test_gate_holds_the_column_then_releases_it():
     cfg = MPMConfig(
         domain=DomainConfig(size=(0.4, 0.15), cells=(40, 15)),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=GATE_X, z1=0.1)]),
-        obstacles=[ObstacleConfig(vertices=[(GATE_X, 0.0), (GATE_X + 0.01, 0.0), (GATE_X + 0.01, 0.14), (GATE_X, 0.14)],
-                                  mu=0.0, removal_time=OPEN_AT)],
+        obstacles=[
+            ObstacleConfig(
+                vertices=[(GATE_X, 0.0), (GATE_X + 0.01, 0.0), (GATE_X + 0.01, 0.14), (GATE_X, 0.14)],
+                mu=0.0,
+                removal_time=OPEN_AT,
+            )
+        ],
         time=TimeConfig(t_end=0.6),
     )
     solver = Solver(cfg)

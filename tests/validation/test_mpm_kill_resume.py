@@ -53,8 +53,13 @@ def _env():
 def reference(tmp_path_factory):
     folder = tmp_path_factory.mktemp("reference")
     (folder / "c.toml").write_text(CONFIG)
-    r = subprocess.run(_cli("mpm", "run", folder / "c.toml", "--out", folder / "run"), capture_output=True, text=True,
-                       env=_env(), timeout=300)
+    r = subprocess.run(
+        _cli("mpm", "run", folder / "c.toml", "--out", folder / "run"),
+        capture_output=True,
+        text=True,
+        env=_env(),
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr
     return folder / "c.toml", folder / "run"
 

@@ -172,8 +172,15 @@ def test_a_killed_free_wheel_with_the_nonlocal_law_resumes_on_the_uninterrupted_
     from intrusim.mpm.config import FluidityConfig
 
     sc = grousered_wheel_scenario()
-    s = quick_settings("wheel").model_copy(update=dict(t_max=0.8, settle_time=0.3, contact="band", contact_band_cells=0.0,
-                                                       fluidity=FluidityConfig(grain_diameter=6e-3)))
+    s = quick_settings("wheel").model_copy(
+        update=dict(
+            t_max=0.8,
+            settle_time=0.3,
+            contact="band",
+            contact_band_cells=0.0,
+            fluidity=FluidityConfig(grain_diameter=6e-3),
+        )
+    )
     full = run_mpm_steady(sc, s, 30.0, tmp_path / "full")
     resumed, seen = _killed_and_resumed(sc, s, tmp_path / "killed")
     assert seen[0]["t"] == pytest.approx(0.55, abs=1e-3)  # from the checkpoint at 0.5 s
@@ -246,12 +253,18 @@ def test_the_treadmill_in_a_1_m_box_gives_the_2_m_box_wheel():
 
 def test_a_treadmill_outside_the_box_is_refused_before_compute(tmp_path):
     s = quick_settings("wheel")
-    for bad, match in (((0.3, 0.35), "x_target < x_trigger"), ((0.95, 0.5), "x_target < x_trigger"),
-                       ((0.15, 0.1), "ahead of start_x"), ((0.5, 0.49), "at least one cell")):
+    for bad, match in (
+        ((0.3, 0.35), "x_target < x_trigger"),
+        ((0.95, 0.5), "x_target < x_trigger"),
+        ((0.15, 0.1), "ahead of start_x"),
+        ((0.5, 0.49), "at least one cell"),
+    ):
         with pytest.raises(ValueError, match=match):
             s.validated_copy(treadmill=bad)
-    for bad, match in (((0.85, 0.5), "wall margin"),  # the wheel's front would pass it
-                       ((0.3, 0.11), "touch the left wall")):  # radius 0.106 m, 2 cm cells
+    for bad, match in (
+        ((0.85, 0.5), "wall margin"),  # the wheel's front would pass it
+        ((0.3, 0.11), "touch the left wall"),
+    ):  # radius 0.106 m, 2 cm cells
         with pytest.raises(InputError, match=match):
             run_mpm_steady(grousered_wheel_scenario(), s.validated_copy(treadmill=bad), 30.0, tmp_path / "run")
         assert not (tmp_path / "run").exists()

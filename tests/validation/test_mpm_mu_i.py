@@ -18,9 +18,13 @@ def drag():
     """Steady drag force (N per m of width) at 20 mm depth by speed and grain diameter."""
     out = {}
     for speed in SPEEDS:
-        cfg = PlateDragCase(depth=0.02, speed=speed, travel=0.03, cells=(60, 30), contact="band").config()  # as measured
+        cfg = PlateDragCase(
+            depth=0.02, speed=speed, travel=0.03, cells=(60, 30), contact="band"
+        ).config()  # as measured
         for d in DIAMETERS:
-            material = cfg.material if d is None else cfg.material.model_copy(update={"mu_i": MuIConfig(grain_diameter=d)})
+            material = (
+                cfg.material if d is None else cfg.material.model_copy(update={"mu_i": MuIConfig(grain_diameter=d)})
+            )
             out[(speed, d)] = -steady_force(Solver(cfg.model_copy(update={"material": material})).run(), "fx")
     return out
 
@@ -29,7 +33,10 @@ def test_mu_i_raises_the_drag_more_for_larger_grains_and_faster_plates(drag):
     for speed in SPEEDS:
         f = [drag[(speed, d)] for d in DIAMETERS]
         assert f[0] < f[1] < f[2], speed  # mu(I) >= mu_s, growing with d at a given rate
-    excess = lambda speed: drag[(speed, 1e-2)] / drag[(speed, None)] - 1.0
+
+    def excess(speed):
+        return drag[(speed, 1e-2)] / drag[(speed, None)] - 1.0
+
     assert excess(0.64) > 1.5 * excess(0.08) > 0.0  # the rate effect grows with the rate
 
 

@@ -1,12 +1,19 @@
 """Open sides (BoundaryConfig kind "open"): points that leave through them are removed and their mass
 is counted as outflow; the mass in the box plus the outflow stays the mass of the start."""
 
-import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from intrusim.mpm.config import (BedConfig, BoundaryConfig, DomainConfig, MPMConfig, OutputConfig, Rectangle,
-                                 TimeConfig, WallConfig)
+from intrusim.mpm.config import (
+    BedConfig,
+    BoundaryConfig,
+    DomainConfig,
+    MPMConfig,
+    OutputConfig,
+    Rectangle,
+    TimeConfig,
+    WallConfig,
+)
 from intrusim.mpm.grid import PAD
 from intrusim.mpm.solver import Solver
 

@@ -13,8 +13,9 @@ from intrusim.mpm.solver import Solver
 
 
 def _config(tmp_path, name):
-    case = PlateDragCase(depth=0.03, speed=0.3, travel=0.012, cells=(40, 20), domain=(0.2, 0.1),
-                         bed_height=0.07, contact="band")  # the force from the nodes ahead: the band contact
+    case = PlateDragCase(
+        depth=0.03, speed=0.3, travel=0.012, cells=(40, 20), domain=(0.2, 0.1), bed_height=0.07, contact="band"
+    )  # the force from the nodes ahead: the band contact
     cfg = case.config(directory=str(tmp_path / name))
     cfg.output.record_every = cfg.time.t_end / 8
     cfg.output.checkpoint_every = cfg.time.t_end / 4

@@ -17,18 +17,19 @@ import taichi as ti
 from intrusim.mpm.backend import ensure_initialized, unscalarized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import DruckerPragerSeparation, material_from_config
-from intrusim.mpm.solver import Solver
 from intrusim.mpm.fluidity import SOURCE_CHUNKS, fluidity_relax_kernel, fluidity_sources_kernel
 from intrusim.mpm.grid import record_width
 from intrusim.mpm.particles import FIELDS, LANES, Particles
+from intrusim.mpm.solver import Solver
 from intrusim.mpm.transfer import exp_near_zero_lanes, g2p_kernel, p2g_kernel
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 
 # the vectorised kernels are the CPU's (a GPU runs the one-point ones); with the suite on a GPU
 # (INTRUSIM_TI_ARCH, benchmarks/gpu_checks.sh) these tests would compile them for the GPU
-pytestmark = pytest.mark.skipif(os.environ.get("INTRUSIM_TI_ARCH", "cpu") != "cpu",
-                                reason="the vectorised G2P and P2G are the CPU's kernels")
+pytestmark = pytest.mark.skipif(
+    os.environ.get("INTRUSIM_TI_ARCH", "cpu") != "cpu", reason="the vectorised G2P and P2G are the CPU's kernels"
+)
 
 H, PAD, NX, NZ, DT = 0.01, 2, 24, 20, 2e-4
 RHO_C = 1500.0
@@ -51,8 +52,18 @@ def _state(n: int, seed: int = 3) -> dict:
     gx, gz = np.meshgrid(np.arange(NX) * H, np.arange(NZ) * H, indexing="ij")
     gv = np.stack([0.5 * np.sin(20 * gz) + 0.2 * gx, 0.3 * np.cos(15 * gx) - 0.1 * gz], axis=-1)
     gv += 0.05 * rng.standard_normal(gv.shape)
-    return {"x": x, "v": np.zeros((n, 2)), "C": np.zeros((n, 2, 2)), "mass": mass, "vol": mass / rho,
-            "sigma": sigma, "s_yy": -p, "eps_p": rng.uniform(0.0, 0.1, n), "gdot_p": np.zeros(n), "gv": gv}
+    return {
+        "x": x,
+        "v": np.zeros((n, 2)),
+        "C": np.zeros((n, 2, 2)),
+        "mass": mass,
+        "vol": mass / rho,
+        "sigma": sigma,
+        "s_yy": -p,
+        "eps_p": rng.uniform(0.0, 0.1, n),
+        "gdot_p": np.zeros(n),
+        "gv": gv,
+    }
 
 
 def _arrays(state: dict) -> tuple[Particles, ti.Ndarray]:
@@ -78,8 +89,8 @@ def _with_pads(pts: Particles) -> dict:
     """Every field of the points; the last block's pads must have stayed copies of the last point."""
     out = pts.to_numpy(pads=True)
     for name, a in out.items():
-        pads = a[pts.n:]
-        np.testing.assert_array_equal(pads, np.repeat(a[pts.n - 1: pts.n], len(pads), axis=0), err_msg=name)
+        pads = a[pts.n :]
+        np.testing.assert_array_equal(pads, np.repeat(a[pts.n - 1 : pts.n], len(pads), axis=0), err_msg=name)
     return {name: a[: pts.n] for name, a in out.items()}
 
 
@@ -127,8 +138,18 @@ def _p2g(state: dict, chunks: int, lanes: bool) -> tuple[np.ndarray, np.ndarray]
     copies = ti.Vector.ndarray(record_width(True), ti.f32, shape=chunks * NX * NZ)  # the solver's chunked copies
     box = ti.ndarray(ti.i32, shape=(chunks, 4))
     no_flip = ti.Vector.ndarray(2, ti.f32, shape=1)  # FLIP's momentum copies: a placeholder (not touched)
-    args = [pts.arrays[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [pts.n, copies, box, NX, NZ, H, PAD, DT, 1.0,
-                                                                              no_flip]
+    args = [pts.arrays[k] for k in ("x", "v", "C", "mass", "vol", "sigma")] + [
+        pts.n,
+        copies,
+        box,
+        NX,
+        NZ,
+        H,
+        PAD,
+        DT,
+        1.0,
+        no_flip,
+    ]
     if lanes:
         with unscalarized():
             p2g_kernel(chunked=True, lanes=True)(*args)
@@ -217,7 +238,17 @@ def _sources(state: dict, lanes: bool) -> tuple[np.ndarray, np.ndarray]:
     box.from_numpy(np.array([0, NX, 0, NZ, 0, 0, 0, 0], np.int32))
     src = ti.Vector.ndarray(3, ti.f32, shape=(NX, NZ))
     prm = (0.56, 1.0, 1e-3, 2500.0)  # mu_s, b, d, rho_s
-    args = [pts.arrays[k] for k in ("x", "mass", "sigma", "s_yy")] + [pts.n, parts, box_parts, box, src, H, PAD, prm, 1.0]
+    args = [pts.arrays[k] for k in ("x", "mass", "sigma", "s_yy")] + [
+        pts.n,
+        parts,
+        box_parts,
+        box,
+        src,
+        H,
+        PAD,
+        prm,
+        1.0,
+    ]
     if lanes:
         with unscalarized():
             fluidity_sources_kernel(True, lanes=True)(*args)
@@ -301,8 +332,9 @@ def test_the_step_compiles_the_kernel_once_as_vector_code(path, transfer, tmp_pa
     script = tmp_path / "step.py"
     script.write_text(_COMPILE_THE_STEP)
     env = {**os.environ, "TI_OFFLINE_CACHE_FILE_PATH": str(tmp_path / "cache")}
-    done = subprocess.run([sys.executable, str(script), path, transfer], cwd=tmp_path, env=env, capture_output=True,
-                          text=True)
+    done = subprocess.run(
+        [sys.executable, str(script), path, transfer], cwd=tmp_path, env=env, capture_output=True, text=True
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     ir = [f.read_text() for f in tmp_path.glob("*.ll")]
     g2p = [text for text in ir if "define void @g2p_density_stress" in text]

@@ -2,11 +2,16 @@
 
 import math
 
-import numpy as np
 import pytest
 
 from intrusim.mpm.config import (
-    BedConfig, BoundaryConfig, DomainConfig, MaterialConfig, MPMConfig, Rectangle, TimeConfig,
+    BedConfig,
+    BoundaryConfig,
+    DomainConfig,
+    MaterialConfig,
+    MPMConfig,
+    Rectangle,
+    TimeConfig,
     WallConfig,
 )
 from intrusim.mpm.solver import Solver

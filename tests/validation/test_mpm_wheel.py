@@ -5,8 +5,15 @@ import numpy as np
 import pytest
 
 from intrusim.mpm.config import (
-    BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
-    OutputConfig, Rectangle, TimeConfig,
+    BedConfig,
+    CoupledMotion,
+    DomainConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    OutputConfig,
+    Rectangle,
+    TimeConfig,
 )
 from intrusim.mpm.solver import Solver
 
@@ -27,12 +34,16 @@ def wheel_config(omega: float, mass_z: float, grousers: int, t_end: float, free_
         domain=DomainConfig(size=(0.4, 0.2), cells=(80, 40)),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
         bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=0.4, z1=BED)]),
-        intruders=[IntruderConfig(
-            vertices=wheel_polygon(R, grousers, 0.008).tolist(), width=WIDTH, mu_w=0.35,
-            x=0.12, z=BED + R + 0.009,
-            motion=CoupledMotion(omega=omega, ramp_time=0.05, mass_x=4 * mass_z, mass_z=mass_z,
-                                 free_x=free_x),
-        )],
+        intruders=[
+            IntruderConfig(
+                vertices=wheel_polygon(R, grousers, 0.008).tolist(),
+                width=WIDTH,
+                mu_w=0.35,
+                x=0.12,
+                z=BED + R + 0.009,
+                motion=CoupledMotion(omega=omega, ramp_time=0.05, mass_x=4 * mass_z, mass_z=mass_z, free_x=free_x),
+            )
+        ],
         time=TimeConfig(t_end=t_end, v_max_expected=1.0),
         output=OutputConfig(record_every=0.01),
     )

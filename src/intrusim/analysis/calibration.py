@@ -54,7 +54,9 @@ PARAMETERS: dict[str, Parameter] = {
     "psi": Parameter("psi_slope", (0.0, 5.0), "slope c of the free-surface law psi(x) = a + c x (paper 1)"),
     "psi_offset": Parameter("psi_offset", (-0.5, 0.5), "offset a of psi(x) = a + c x (paper 0)"),
     "lam": Parameter("lam", (0.0, 50.0), "lambda of the inertial correction (paper wheel 1)"),
-    "bulldozing": Parameter("bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)", 1.0),
+    "bulldozing": Parameter(
+        "bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)", 1.0
+    ),
 }
 
 FAILED_RESIDUAL = 10.0
@@ -65,14 +67,18 @@ FINER_STEP = 4
 
 
 # --- the free-surface law from the measured rear drop (Fig 5C) ------------------------------------
-def _psi_data(omega: Any, surface_drop: Any, radius: float, gravity: float, min_points: int) -> tuple[np.ndarray, np.ndarray]:
+def _psi_data(
+    omega: Any, surface_drop: Any, radius: float, gravity: float, min_points: int
+) -> tuple[np.ndarray, np.ndarray]:
     """(x, y) = (r omega^2 / g, dh / r), checked."""
     w = np.asarray(omega, float)
     dh = np.asarray(surface_drop, float)
     if w.ndim != 1 or w.shape != dh.shape:
         raise ValueError(f"omega and surface_drop must be 1-D arrays of equal length, got {w.shape} and {dh.shape}")
     if not (np.all(np.isfinite(w)) and np.all(np.isfinite(dh))):
-        raise ValueError("omega and surface_drop must be finite (drop the NaN points of runs without a measured drop first)")
+        raise ValueError(
+            "omega and surface_drop must be finite (drop the NaN points of runs without a measured drop first)"
+        )
     if not (radius > 0.0 and gravity > 0.0 and math.isfinite(radius) and math.isfinite(gravity)):
         raise ValueError(f"radius and gravity must be finite and > 0, got {radius!r}, {gravity!r}")
     x = radius * w**2 / gravity
@@ -131,7 +137,9 @@ def _reference_arrays(reference: SweepResult, min_omegas: int = 1) -> tuple[np.n
     comparison: one omega or more; a fit asks for ``min_omegas`` = 2)."""
     w, v, s = reference.omega_rpm, reference.column("velocity"), reference.column("sinkage")
     if len(w) < min_omegas:
-        raise ValueError(f"the reference needs at least {min_omegas} omega{'s' if min_omegas > 1 else ''}, got {len(w)}")
+        raise ValueError(
+            f"the reference needs at least {min_omegas} omega{'s' if min_omegas > 1 else ''}, got {len(w)}"
+        )
     for name, a in (("omega_rpm", w), ("velocity", v), ("sinkage", s)):
         if not np.all(np.isfinite(a)):
             raise ValueError(f"the reference {name} has NaN or infinite values (failed runs?): {a}")
@@ -196,7 +204,13 @@ def drft_steady_states(scenario: LocomotorScenario, omega_rpm: Sequence[float], 
         run = scenario.run.model_copy(
             update=dict(dt_max=scenario.run.dt_max / FINER_STEP, steps_per_revolution=scenario.run.steps_per_revolution * FINER_STEP)
         )  # fmt: skip
-        retry = sweep_omega(scenario.model_copy(update=dict(run=run)), kind, [res.records[i]["omega_rpm"] for i in bad], parallel=False, progress=False)
+        retry = sweep_omega(
+            scenario.model_copy(update=dict(run=run)),
+            kind,
+            [res.records[i]["omega_rpm"] for i in bad],
+            parallel=False,
+            progress=False,
+        )
         for i, rec in zip(bad, retry.records):
             res.records[i] = rec
     return res
@@ -384,7 +398,9 @@ def calibrate(
     names = _check_names(params)
     w, _, _ = _reference_arrays(reference, min_omegas=2)
     if 2 * len(w) < len(names):
-        raise ValueError(f"{len(names)} parameters need at least {len(names)} residuals, got {2 * len(w)} (2 per omega)")
+        raise ValueError(
+            f"{len(names)} parameters need at least {len(names)} residuals, got {2 * len(w)} (2 per omega)"
+        )
     bnd = {p: tuple(float(b) for b in (bounds or {}).get(p, PARAMETERS[p].bounds)) for p in names}
     for p, (lo, hi) in bnd.items():
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
@@ -446,7 +462,9 @@ def _local_fit(
             cache[key] = compare(with_parameters(scenario, dict(zip(names, key))), reference, kind)
         return cache[key]
 
-    f = least_squares(lambda x: evaluate(x).residuals(), x0, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev)
+    f = least_squares(
+        lambda x: evaluate(x).residuals(), x0, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev
+    )
     return _LocalFit(f.x, float(f.cost), bool(f.success), str(f.message), evaluate(f.x), frozenset(cache))
 
 
@@ -524,4 +542,6 @@ def _fold(
 
 def _fold_line(progress: Callable[[str], None] | None, i: int, w: np.ndarray, values: Mapping[str, float]) -> None:
     if progress is not None:
-        progress(f"fold {i + 1}/{len(w)}: without {w[i]:g} RPM, {', '.join(f'{p} = {x:.4g}' for p, x in values.items())}")
+        progress(
+            f"fold {i + 1}/{len(w)}: without {w[i]:g} RPM, {', '.join(f'{p} = {x:.4g}' for p, x in values.items())}"
+        )

@@ -105,7 +105,9 @@ def rear_contact_drop(
     return float(surface_z - pos[loaded, 1].max())
 
 
-def wake_drop(positions: np.ndarray, rear_x: float, forward: float, surface_z: float, width: tuple[float, float]) -> float:
+def wake_drop(
+    positions: np.ndarray, rear_x: float, forward: float, surface_z: float, width: tuple[float, float]
+) -> float:
     """Depth (m) below ``surface_z`` of the top of the grains in the strip ``width`` = (near, far)
     metres behind ``rear_x`` (the wheel's rearmost extent); negative for a ridge; NaN if empty."""
     pos = finite_array("positions", positions, (2,))

@@ -30,7 +30,9 @@ def fit_static_plus_inertial(
     return fit_drag_law(D.ravel(), V.ravel(), f.ravel(), rho, area)
 
 
-def fit_drag_law(depth: np.ndarray, speed: np.ndarray, force: np.ndarray, rho: float, area: float) -> tuple[float, float]:
+def fit_drag_law(
+    depth: np.ndarray, speed: np.ndarray, force: np.ndarray, rho: float, area: float
+) -> tuple[float, float]:
     """Least-squares (K, lambda) of F = K |z| + lambda rho A v^2 over scattered samples.
 
     Parameters

@@ -121,8 +121,14 @@ def whole_windows(time: Any, every: float, *, origin: float = 0.0) -> int:
 
 
 def window_means(
-    time: Any, columns: dict[str, Any], every: float, *, origin: float = 0.0, right_closed: bool = False,
-    whole_only: bool = False, tol: float = 1e-9,
+    time: Any,
+    columns: dict[str, Any],
+    every: float,
+    *,
+    origin: float = 0.0,
+    right_closed: bool = False,
+    whole_only: bool = False,
+    tol: float = 1e-9,
 ) -> list[dict[str, float]]:
     """Means of ``columns`` over consecutive windows of ``every`` seconds from ``origin``.
 
@@ -183,9 +189,7 @@ def window_drift(velocity: Any, sinkage: Any, radius: float) -> float:
     )
 
 
-def steady_state(
-    traj: Trajectory, shape: Shape, revolutions: int, surface_z: float = 0.0
-) -> SteadyState:
+def steady_state(traj: Trajectory, shape: Shape, revolutions: int, surface_z: float = 0.0) -> SteadyState:
     """Average ``traj`` over its last ``revolutions`` whole revolutions (see module docstring).
 
     Raises
@@ -200,10 +204,14 @@ def steady_state(
     t_end = float(traj.t[-1])
     t_start = t_end - revolutions * period
     if t_start < 0.0:
-        raise InputError(f"run of {t_end:.3g} s is shorter than {revolutions} revolution(s) ({revolutions * period:.3g} s)")
+        raise InputError(
+            f"run of {t_end:.3g} s is shorter than {revolutions} revolution(s) ({revolutions * period:.3g} s)"
+        )
     sel = traj.t > t_start + 1e-12  # steps (t_start, t_end]: one sample per dt, whole revolutions
     if not np.any(np.abs(traj.fx[sel]) + np.abs(traj.fz[sel]) > 0.0):
-        depth = surface_z - float(np.min(outline_sinkage(shape.polygon, traj.z[-1:], traj.theta[-1:], 0.0) * -1 + traj.z[-1]))
+        depth = surface_z - float(
+            np.min(outline_sinkage(shape.polygon, traj.z[-1:], traj.theta[-1:], 0.0) * -1 + traj.z[-1])
+        )
         raise NoContactError(
             f"the body never touched the medium in the averaging window (t = {t_start:.3g}-{t_end:.3g} s); "
             f"its lowest point ended {abs(depth):.3g} m from the surface. Start it lower "

@@ -19,8 +19,8 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from intrusim._checks import InputError
-from intrusim.errors import PROGRAMMING_ERRORS
 from intrusim.analysis.steady import run_steady
+from intrusim.errors import PROGRAMMING_ERRORS
 
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
@@ -78,7 +78,9 @@ class SweepResult:
         for r in self.records:
             if r["ok"]:
                 note = "" if r.get("settled", True) else "not settled"
-                lines.append(f"{r['omega_rpm']:9.4g} | {r['velocity']:8.4f} | {r['sinkage'] * 1e3:10.2f} | {r['slip']:6.3f} | {note}")
+                lines.append(
+                    f"{r['omega_rpm']:9.4g} | {r['velocity']:8.4f} | {r['sinkage'] * 1e3:10.2f} | {r['slip']:6.3f} | {note}"
+                )
             else:
                 lines.append(f"{r['omega_rpm']:9.4g} | {'-':>8} | {'-':>10} | {'-':>6} | ERROR {r['error']}")
         return "\n".join(lines)

@@ -71,7 +71,10 @@ def _force_label(scenario: LocomotorScenario) -> str:
 
 
 def _verdict(cmp: Comparison) -> dict[str, bool]:
-    return {"velocity_within_15pct": cmp.max_abs_rel_error_velocity <= TARGET, "sinkage_within_15pct": cmp.max_abs_rel_error_sinkage <= TARGET}
+    return {
+        "velocity_within_15pct": cmp.max_abs_rel_error_velocity <= TARGET,
+        "sinkage_within_15pct": cmp.max_abs_rel_error_sinkage <= TARGET,
+    }
 
 
 def _curve(scenario: LocomotorScenario, reference: SweepResult, kind: str) -> SweepResult:
@@ -110,12 +113,19 @@ def write_calibration(
     for i, (s0, s1, ref, tag) in enumerate(cases):
         before, after = _curve(s0, ref, kind), _curve(s1, ref, kind)
         curves += [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
-        entry = {"uncalibrated": comparison(s0.name, ref, before).summary(), "psi_from_surface_drop": psi_from_surface_drop(s0, ref)}
+        entry = {
+            "uncalibrated": comparison(s0.name, ref, before).summary(),
+            "psi_from_surface_drop": psi_from_surface_drop(s0, ref),
+        }
         if i == 0:
             report.update(entry)
         else:
             cal_cmp = check_cmps[checks[i - 1].label] = comparison(s1.name, ref, after)
-            report["checks"][checks[i - 1].label] = {"calibrated": cal_cmp.summary(), "verdict": _verdict(cal_cmp), **entry}
+            report["checks"][checks[i - 1].label] = {
+                "calibrated": cal_cmp.summary(),
+                "verdict": _verdict(cal_cmp),
+                **entry,
+            }
     report.update(meta or {})
     title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
              f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip

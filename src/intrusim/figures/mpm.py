@@ -59,19 +59,29 @@ def mpm_sweep(
     table = runs_root(runs, quick) / f"{scenario.name}_mpm_sweep.csv"
     if missing and table.is_file():
         res = load_reference(table, scenario.name)
-        print(f"{scenario.name}: MPM points from {table} ({len(res.records)} finished runs at "
-              f"{', '.join(f'{w:g}' for w in res.omega_rpm)} RPM)", file=sys.stderr)
+        print(
+            f"{scenario.name}: MPM points from {table} ({len(res.records)} finished runs at "
+            f"{', '.join(f'{w:g}' for w in res.omega_rpm)} RPM)",
+            file=sys.stderr,
+        )
         return res
     if missing:
-        print(f"{scenario.name}: {len(missing)} of {len(rpm)} MPM runs not finished under {case.out_root}; running them "
-              f"({', '.join(f'{w:g}' for w in missing)} RPM; a run stopped midway resumes from its last checkpoint)", file=sys.stderr)
+        print(
+            f"{scenario.name}: {len(missing)} of {len(rpm)} MPM runs not finished under {case.out_root}; running them "
+            f"({', '.join(f'{w:g}' for w in missing)} RPM; a run stopped midway resumes from its last checkpoint)",
+            file=sys.stderr,
+        )
     if parallel and len(missing) > 1:
         workers = min(len(missing), os.cpu_count() or 1)
-        case = case.model_copy(update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers)))))
+        case = case.model_copy(
+            update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers))))
+        )
     return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
 
 
-def fig3ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+def fig3ab(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
     """Fig 3A-B: MPM wheel, steady velocity and sinkage vs omega (non-dimensional)."""
     from intrusim.scenarios import grousered_wheel_scenario
 
@@ -80,7 +90,9 @@ def fig3ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     return write_curves(out, "fig3ab", [("MPM", s, res)], "Fig 3A-B: grousered wheel, MPM (Table S1 set-up)")
 
 
-def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+def fig5c(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
     """Fig 5C: rear free-surface drop dh from MPM vs omega, against dh = r (r omega^2 / g).
 
     Also fits psi(x) = a x (least squares through the origin; paper: a = 1) and the affine
@@ -106,7 +118,14 @@ def fig5c(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     law = r * (r * (ww * RPM) ** 2 / s.gravity)
     ax.plot(ww, law * 1e3, ":", color="tab:blue", label=r"$\delta h = r\,(r\omega^2/g)$ (paper)")
     ax.plot(ww, a * law * 1e3, "-", lw=0.8, color="0.4", label=rf"fit $\psi = {a:.2f}\,x$")
-    ax.plot(ww, (dh0 + b * law) * 1e3, "--", lw=0.8, color="0.6", label=rf"fit $\delta h = {dh0 * 1e3:.1f}$ mm $+ {b:.2f}\,r x$")
+    ax.plot(
+        ww,
+        (dh0 + b * law) * 1e3,
+        "--",
+        lw=0.8,
+        color="0.6",
+        label=rf"fit $\delta h = {dh0 * 1e3:.1f}$ mm $+ {b:.2f}\,r x$",
+    )
     ax.set(xlabel=r"$\omega$ (RPM)", ylabel=r"$\delta h$ (mm)", title="Fig 5C: rear free-surface drop")
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -140,7 +159,9 @@ def _field_panel(ax: Any, d: dict[str, np.ndarray], values: np.ndarray, norm: An
     return sc
 
 
-def fig3cd(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+def fig3cd(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
     """Fig 3C-D: grain velocity under the wheel at 30 and 60 RPM (MPM), and the profile below the centre.
 
     Arrows: grain velocity in the lab frame; colour: speed. The profile is the horizontal grain
@@ -181,7 +202,9 @@ def fig3cd(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     return save_figure(fig, out, "fig3cd", rows)
 
 
-def fig5d(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+def fig5d(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
     """Fig 5D: equivalent plastic strain rate under the wheel at 30 and 90 RPM (MPM)."""
     from matplotlib.colors import LogNorm
 
@@ -201,6 +224,14 @@ def fig5d(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
     return save_figure(fig, out, "fig5d", rows)
 
 
-def with_mpm(curves: list, scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None, label: str = "MPM") -> list:
+def with_mpm(
+    curves: list,
+    scenario: LocomotorScenario,
+    rpm: np.ndarray,
+    quick: bool,
+    parallel: bool,
+    runs: Path | None,
+    label: str = "MPM",
+) -> list:
     """Append an MPM curve (computed or reused) to a list of RFT/DRFT curves."""
     return curves + [(label, scenario, mpm_sweep(scenario, rpm, quick, parallel, runs))]

@@ -71,8 +71,13 @@ def drag_points(quick: bool, runs: Path | None, progress: bool = True, vary=None
 
         def run() -> dict[str, float]:
             rows = Solver(case.config()).run()
-            return {"depth_m": d, "speed_m_s": v, "force_N_per_m": -steady_force(rows, "fx"),
-                    "lift_N_per_m": steady_force(rows, "fz"), "h_m": case.domain[0] / case.cells[0]}
+            return {
+                "depth_m": d,
+                "speed_m_s": v,
+                "force_N_per_m": -steady_force(rows, "fx"),
+                "lift_N_per_m": steady_force(rows, "fz"),
+                "h_m": case.domain[0] / case.cells[0],
+            }
 
         out.append(cached_json(_root(runs, quick) / f"drag_d{d * 1e3:.0f}mm_v{v:g}.json", run))
     return out
@@ -87,7 +92,9 @@ def drag_fit(pts: list[dict[str, float]]) -> tuple[float, float, float]:
     return K, lam, float(np.sum(f[slow] * d[slow]) / np.sum(d[slow] ** 2))
 
 
-def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True) -> list[Path]:
+def fig6a_mpm(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
     """Fig 6A with MPM: drag vs speed at |z| = 20/30/40 mm, and the fit F = K|z| + lambda rho A v^2."""
 
     pts = drag_points(quick, runs)
@@ -101,12 +108,16 @@ def fig6a_mpm(out: Path, quick: bool = False, parallel: bool = True, runs: Path 
         sel = np.isclose(d, depth)
         (line,) = ax.plot(v[sel], f[sel], "o", label=f"MPM |z| = {depth * 1e3:.0f} mm")
         ax.plot(vv, K * depth + lam * rho * area * vv**2, ":", color=line.get_color())
-        ax.plot(vv, PAPER_DRAG["K"] * depth + PAPER_DRAG["lambda"] * rho * area * vv**2, "-", lw=0.6, color=line.get_color())
+        ax.plot(
+            vv, PAPER_DRAG["K"] * depth + PAPER_DRAG["lambda"] * rho * area * vv**2, "-", lw=0.6, color=line.get_color()
+        )
     for p in pts:
         rows.append({**p, "fit_K_N_per_m": K, "fit_lambda": lam, "slowest_K_N_per_m": K_slow,
                      "paper_K_N_per_m": PAPER_DRAG["K"], "paper_lambda": PAPER_DRAG["lambda"]})  # fmt: skip
     ax.set(xlabel="drag speed v (m/s)", ylabel="drag force per metre width (N/m)")
-    ax.set_title(f"Fig 6A (MPM): fit K = {K:.0f} N/m, lambda = {lam:.2f}; dotted: fit, thin: paper (580, 1.1)", fontsize=7)
+    ax.set_title(
+        f"Fig 6A (MPM): fit K = {K:.0f} N/m, lambda = {lam:.2f}; dotted: fit, thin: paper (580, 1.1)", fontsize=7
+    )
     ax.legend(fontsize=7)
     fig.tight_layout()
     return save_figure(fig, out, "fig6a_mpm", rows)
@@ -136,14 +147,21 @@ def vertical_series(quick: bool, runs: Path | None, progress: bool = True) -> li
             z0 = rows[0]["z"]
             gap = z0 - case.plate_thickness / 2 - case.bed_height  # initial clearance above the surface
             depth = [z0 - r["z"] - gap for r in rows]
-            return {"speed_m_s": v, "depth_m": depth, "force_N_per_m": [r["fz"] for r in rows],
-                    "time_s": [r["time"] for r in rows], "h_m": case.domain[0] / case.cells[0]}
+            return {
+                "speed_m_s": v,
+                "depth_m": depth,
+                "force_N_per_m": [r["fz"] for r in rows],
+                "time_s": [r["time"] for r in rows],
+                "h_m": case.domain[0] / case.cells[0],
+            }
 
         out.append(cached_json(_root(runs, quick) / f"vertical_v{v:g}.json", run))
     return out
 
 
-def static_plus_inertial_lambda(series: list[dict[str, Any]], rho: float, area: float, min_depth: float) -> tuple[float, np.ndarray, np.ndarray]:
+def static_plus_inertial_lambda(
+    series: list[dict[str, Any]], rho: float, area: float, min_depth: float
+) -> tuple[float, np.ndarray, np.ndarray]:
     """lambda of F(z, v) = F_static(z) + lambda rho A v^2 with F_static the slowest run (as the paper's
     Fig S2 extracts t_static from the slowest data), least squares over depths >= ``min_depth``.
 
@@ -163,8 +181,14 @@ def static_plus_inertial_lambda(series: list[dict[str, Any]], rho: float, area: 
     return (num / den if den > 0 else float("nan")), grid, f_static
 
 
-def figs3b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True,
-           min_depth: float = 0.01) -> list[Path]:
+def figs3b(
+    out: Path,
+    quick: bool = False,
+    parallel: bool = True,
+    runs: Path | None = None,
+    mpm: bool = True,
+    min_depth: float = 0.01,
+) -> list[Path]:
     """Fig S3B: vertical plate intrusion (MPM); lambda of F = F_static(z) + lambda rho A v^2 (paper 2.8)."""
 
     series = vertical_series(quick, runs)
@@ -176,7 +200,13 @@ def figs3b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
         d, f, v = np.array(s["depth_m"]), np.array(s["force_N_per_m"]), s["speed_m_s"]
         (line,) = ax.plot(d * 1e3, f / 1e3, ".", ms=3, label=f"MPM v = {v:g} m/s")
         ax.plot(grid * 1e3, (f_static + lam * rho * area * v**2) / 1e3, ":", color=line.get_color())
-        ax.plot(grid * 1e3, (f_static + PAPER_VERTICAL["lambda"] * rho * area * v**2) / 1e3, "-", lw=0.6, color=line.get_color())
+        ax.plot(
+            grid * 1e3,
+            (f_static + PAPER_VERTICAL["lambda"] * rho * area * v**2) / 1e3,
+            "-",
+            lw=0.6,
+            color=line.get_color(),
+        )
         rows += [{"speed_m_s": v, "depth_m": di, "force_N_per_m": fi, "fit_lambda": lam, "paper_lambda": PAPER_VERTICAL["lambda"],
                   "h_m": s["h_m"]} for di, fi in zip(d, f)]  # fmt: skip
     ax.set(xlabel="depth of the plate's lower face (mm)", ylabel="resistance per metre width (kN/m)")

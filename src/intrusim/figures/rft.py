@@ -54,24 +54,38 @@ def _curves(
     cases: Sequence[tuple[str, LocomotorScenario, str, float | None]], rpm: np.ndarray, parallel: bool
 ) -> list[tuple[str, LocomotorScenario, SweepResult]]:
     if not parallel:
-        return [(label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=False, progress=False)) for label, s, kind, lam in cases]
+        return [
+            (label, s, sweep_omega(s, kind, rpm, lam=lam, parallel=False, progress=False))
+            for label, s, kind, lam in cases
+        ]
     from dask.distributed import LocalCluster
 
-    with LocalCluster(threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:  # one cluster per figure
+    with LocalCluster(
+        threads_per_worker=1, processes=True, dashboard_address=":0"
+    ) as cluster:  # one cluster per figure
         addr = cluster.scheduler_address
-        return [(label, s, sweep_omega(s, kind, rpm, lam=lam, scheduler_address=addr, progress=False)) for label, s, kind, lam in cases]
+        return [
+            (label, s, sweep_omega(s, kind, rpm, lam=lam, scheduler_address=addr, progress=False))
+            for label, s, kind, lam in cases
+        ]
 
 
-def fig4b(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+def fig4b(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False
+) -> list[Path]:
     """Fig 4B: wheel, RFT + inertial correction only, lambda in {0, 1, 25, 50, 100}."""
     s = _quick(grousered_wheel_scenario(), quick)
     lams = (0.0, 25.0, 100.0) if quick else (0.0, 1.0, 25.0, 50.0, 100.0)
     cases = [(f"lambda={lam:g}", s, "drft-inertial", lam) for lam in lams]
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
-    return write_curves(out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)")
+    return write_curves(
+        out, "fig4b", _curves(cases, rpm, parallel), "Fig 4B: wheel, RFT + lambda rho v_n^2 (no structural correction)"
+    )
 
 
-def fig5ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+def fig5ab(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False
+) -> list[Path]:
     """Fig 5A-B: wheel, RFT vs DRFT vs DRFT without the structural correction (lambda = 1); ``mpm``
     adds the MPM points (the paper compares with experiments, which are not available as data)."""
     s = _quick(grousered_wheel_scenario(), quick)
@@ -88,7 +102,9 @@ def fig5ab(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     return write_curves(out, "fig5ab", curves, "Fig 5A-B: grousered wheel (Table S1)")
 
 
-def fig7bc(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+def fig7bc(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False
+) -> list[Path]:
     """Fig 7B-C: four-flap runner, DRFT (inertial correction only), lambda in {0, 2, 4}; ``mpm`` adds MPM."""
     s = _quick(four_flap_runner_scenario(), quick)
     cases = [(f"DRFT lambda={lam:g}", s, "drft", lam) for lam in (0.0, 2.0, 4.0)]
@@ -99,19 +115,33 @@ def fig7bc(out: Path, quick: bool = False, parallel: bool = True, runs: Path | N
     return write_curves(out, "fig7bc", curves, "Fig 7B-C: four-flap runner (Table S1, m = 10.5 kg, W = 1 m)")
 
 
-def figs1(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+def figs1(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False
+) -> list[Path]:
     """Fig S1: DRFT for the Table S1 wheel and the half-size wheel (each with its own l); ``mpm`` adds MPM."""
     big, small = _quick(grousered_wheel_scenario(), quick), _quick(small_wheel_scenario(), quick)
     cases = [("wheel D=212 mm", big, "drft", None), ("small wheel D=106 mm", small, "drft", None)]
     rpm = WHEEL_RPM_QUICK if quick else WHEEL_RPM
     curves = _curves(cases, rpm, parallel)
     if mpm:
-        curves = with_mpm(curves, big, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs, "MPM wheel D=212 mm")
-        curves = with_mpm(curves, small, MPM_WHEEL_RPM_QUICK if quick else MPM_SMALL_WHEEL_RPM, quick, parallel, runs, "MPM small wheel D=106 mm")
+        curves = with_mpm(
+            curves, big, MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_RPM, quick, parallel, runs, "MPM wheel D=212 mm"
+        )
+        curves = with_mpm(
+            curves,
+            small,
+            MPM_WHEEL_RPM_QUICK if quick else MPM_SMALL_WHEEL_RPM,
+            quick,
+            parallel,
+            runs,
+            "MPM small wheel D=106 mm",
+        )
     return write_curves(out, "figs1", curves, "Fig S1: DRFT, two wheel sizes")
 
 
-def fig6a(out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False) -> list[Path]:
+def fig6a(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = False
+) -> list[Path]:
     """Fig 6A: DRFT drag on a vertical plate vs speed at 20/30/40 mm; fit K|z| + lambda rho A v^2."""
     s = plate_drag_scenario()
     s = s.model_copy(update={"speeds": list(np.geomspace(0.04, 0.64, 5 if quick else 9))})
@@ -125,7 +155,13 @@ def fig6a(out: Path, quick: bool = False, parallel: bool = True, runs: Path | No
         (line,) = ax.plot(s.speeds, force[i], "o", label=f"DRFT |z| = {d * 1e3:.0f} mm")
         ax.plot(vv, K * d + lam * s.force_model.rho * s.area * vv**2, ":", color=line.get_color())
         if s.paper_K is not None and s.paper_lambda is not None:
-            ax.plot(vv, s.paper_K * d + s.paper_lambda * s.force_model.rho * s.area * vv**2, "-", lw=0.6, color=line.get_color())
+            ax.plot(
+                vv,
+                s.paper_K * d + s.paper_lambda * s.force_model.rho * s.area * vv**2,
+                "-",
+                lw=0.6,
+                color=line.get_color(),
+            )
         for j, v in enumerate(s.speeds):
             rows.append({"depth_m": d, "speed_m_s": v, "force_N_per_m": force[i, j], "fit_K_N_per_m": K, "fit_lambda": lam,
                          "paper_K_N_per_m": s.paper_K, "paper_lambda": s.paper_lambda, "rho": s.force_model.rho,

@@ -50,7 +50,14 @@ def bulldozing_scale(coefficient: float, mu: float, rho: float, gravity: float, 
     width : out-of-plane width of the body, m.
     """
     k = non_negative("bulldozing coefficient", coefficient)
-    return k * 0.5 * passive_coefficient(mu) * non_negative("rho", rho) * positive("gravity", gravity) * positive("width", width)
+    return (
+        k
+        * 0.5
+        * passive_coefficient(mu)
+        * non_negative("rho", rho)
+        * positive("gravity", gravity)
+        * positive("width", width)
+    )
 
 
 @numba.njit(cache=True)

@@ -104,9 +104,7 @@ def contact_angle(position: np.ndarray, centre: np.ndarray, forward: float) -> n
     return np.arctan2(forward * rel[:, 0], -rel[:, 1])
 
 
-def rear_half_mask(
-    position: np.ndarray, centre: np.ndarray, submerged: np.ndarray, forward: float
-) -> np.ndarray:
+def rear_half_mask(position: np.ndarray, centre: np.ndarray, submerged: np.ndarray, forward: float) -> np.ndarray:
     """Elements behind the mid-angle of the contact arc, seen from the wheel centre.
 
     The contact arc is spanned by the ``submerged`` elements; angles are measured at the
@@ -123,7 +121,9 @@ def rear_half_mask(
 class FreeSurfaceModel(Protocol):
     """Effective free-surface drop dh for each element (the structural correction)."""
 
-    def depth_shift(self, position: np.ndarray, centre: np.ndarray, omega: float, vx: float, surface_z: float) -> np.ndarray:
+    def depth_shift(
+        self, position: np.ndarray, centre: np.ndarray, omega: float, vx: float, surface_z: float
+    ) -> np.ndarray:
         """dh (m, >= 0) for elements at world ``position`` (N, 2) of a body centred at ``centre``."""
         ...
 

@@ -57,9 +57,7 @@ Read by the kernels when they are compiled (after initialisation).
 """
 
 
-def ensure_initialized(
-    arch: str = "cpu", precision: str = "f32", cpu_threads: int | None = None
-) -> BackendInfo:
+def ensure_initialized(arch: str = "cpu", precision: str = "f32", cpu_threads: int | None = None) -> BackendInfo:
     """Initialise Taichi once for this process and return what is in use.
 
     Parameters
@@ -83,7 +81,10 @@ def ensure_initialized(
     if env_threads:
         cpu_threads = int(env_threads)
     if _INFO is not None:
-        if (arch, precision) != (_INFO.requested, _INFO.precision) and (arch, precision) != (_INFO.arch, _INFO.precision):
+        if (arch, precision) != (_INFO.requested, _INFO.precision) and (arch, precision) != (
+            _INFO.arch,
+            _INFO.precision,
+        ):
             warnings.warn(
                 f"Taichi already initialised with arch={_INFO.arch}, precision={_INFO.precision}; "
                 f"ignoring request arch={arch}, precision={precision}",
@@ -101,8 +102,11 @@ def ensure_initialized(
     ti.init(**kwargs)
     actual = arch_in_use()
     if arch != "cpu" and actual == "cpu":  # Taichi's own message is a log line that is easy to miss
-        warnings.warn(f"arch={arch} was requested but Taichi found no such device: running on the CPU",
-                      RuntimeWarning, stacklevel=2)
+        warnings.warn(
+            f"arch={arch} was requested but Taichi found no such device: running on the CPU",
+            RuntimeWarning,
+            stacklevel=2,
+        )
     global SERIAL_LOOPS
     SERIAL_LOOPS = actual == "cpu" and cpu_threads == 1
     _INFO = BackendInfo(arch=actual, precision=precision, cpu_threads=cpu_threads, requested=arch)

@@ -6,7 +6,6 @@ on and beyond it keep their velocity, and the points that leave through it are r
 (``Solver.check_guards``).
 """
 
-
 import taichi as ti
 
 from .config import BoundaryConfig

@@ -44,9 +44,13 @@ class FluidityConfig(_Model):
 
     grain_diameter: float = Field(1.0e-3, gt=0, description="mean grain diameter d, m")
     grain_density: float = Field(1100.0, gt=0, description="solid density of the grains rho_s, kg/m^3")
-    amplitude: float = Field(0.48, gt=0, description="nonlocal amplitude A: cooperativity length xi = A d / sqrt(|mu - mu_s|)")
+    amplitude: float = Field(
+        0.48, gt=0, description="nonlocal amplitude A: cooperativity length xi = A d / sqrt(|mu - mu_s|)"
+    )
     b: float = Field(0.9375, gt=0, description="local rheology mu = mu_s + b I")
-    sweep_pairs: int = Field(2, ge=1, le=50, description="pairs of Jacobi sweeps of the fluidity per step (warm-started)")
+    sweep_pairs: int = Field(
+        2, ge=1, le=50, description="pairs of Jacobi sweeps of the fluidity per step (warm-started)"
+    )
 
 
 class MaterialConfig(_Model):
@@ -57,28 +61,40 @@ class MaterialConfig(_Model):
     youngs_modulus: float = Field(1.0e6, gt=0, description="numerical elastic stiffness E, Pa")
     poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="Poisson ratio nu")
     viscosity: float = Field(
-        0.0, ge=0,
+        0.0,
+        ge=0,
         description="Pa s: viscous overstress at yield, tau = mu_s P + eta gdot (a diagnostic regularisation, "
         "not in the paper; 0 = the paper's rate-independent law)",
     )
     mu_i: MuIConfig | None = Field(
-        None, description="inertial-number friction mu(I) at yield (not in the paper; None = the paper's "
+        None,
+        description="inertial-number friction mu(I) at yield (not in the paper; None = the paper's "
         "rate-independent law)",
     )
     fluidity: FluidityConfig | None = Field(
-        None, description="nonlocal granular fluidity in place of the Drucker-Prager return (not in the paper; "
+        None,
+        description="nonlocal granular fluidity in place of the Drucker-Prager return (not in the paper; "
         "None = the paper's rate-independent law)",
     )
     rho_floor_fraction: float = Field(
-        0.1, gt=0, lt=1,
+        0.1,
+        gt=0,
+        lt=1,
         description="lowest density a point dilutes to, / rho_c (a point alone in flight keeps its APIC "
         "velocity gradient, so without a floor its volume grows exponentially until it overflows)",
     )
 
     @model_validator(mode="after")
     def _one_rate_law(self):
-        given = [name for name, on in (("viscosity", self.viscosity > 0.0), ("mu_i", self.mu_i is not None),
-                                       ("fluidity", self.fluidity is not None)) if on]
+        given = [
+            name
+            for name, on in (
+                ("viscosity", self.viscosity > 0.0),
+                ("mu_i", self.mu_i is not None),
+                ("fluidity", self.fluidity is not None),
+            )
+            if on
+        ]
         if len(given) > 1:
             raise ValueError(f"material: give one rate law of viscosity, mu_i and fluidity, not {' and '.join(given)}")
         return self
@@ -120,9 +136,7 @@ class BedConfig(_Model):
 
     rectangles: list[Rectangle] = Field(default_factory=list)
     polygons: list[list[Vec2]] = Field(default_factory=list, description="closed polygons, m")
-    density_ratio: float = Field(
-        1.0, gt=0, description="initial density / rho_c (< 1: loose, stress-free material)"
-    )
+    density_ratio: float = Field(1.0, gt=0, description="initial density / rho_c (< 1: loose, stress-free material)")
     k0: float | Literal["elastic", "jaky"] = Field(
         "elastic",
         description="lateral earth-pressure ratio: number, 'elastic' nu/(1-nu) or 'jaky' 1-sin(phi)",
@@ -155,7 +169,8 @@ class BoundaryConfig(_Model):
     right: WallConfig = Field(default_factory=WallConfig)
     floor: WallConfig = Field(default_factory=lambda: WallConfig(kind="sticky"))
     top: Literal["escape", "open"] = Field(
-        "escape", description="escape: a point above the top is an escape (output.escaped); open: it leaves as outflow")
+        "escape", description="escape: a point above the top is an escape (output.escaped); open: it leaves as outflow"
+    )
 
 
 class ObstacleConfig(_Model):
@@ -198,9 +213,7 @@ class IntruderConfig(_Model):
     x: float = 0.0
     z: float = 0.0
     theta: float = 0.0
-    motion: PrescribedMotion | CoupledMotion = Field(
-        default_factory=PrescribedMotion, discriminator="kind"
-    )
+    motion: PrescribedMotion | CoupledMotion = Field(default_factory=PrescribedMotion, discriminator="kind")
 
 
 class DomainConfig(_Model):
@@ -239,15 +252,12 @@ class DomainConfig(_Model):
 class TimeConfig(_Model):
     t_end: float = Field(1.0, gt=0, description="physical end time, s")
     cfl: float = Field(0.3, gt=0, le=1.0, description="C in dt = C h sqrt(rho_c / E)")
-    max_cell_fraction: float = Field(
-        0.25, gt=0, le=1.0, description="max particle displacement per step, in cells"
-    )
-    v_max_expected: float = Field(
-        1.0, gt=0, description="m/s; dt <= max_cell_fraction h / v_max_expected"
-    )
+    max_cell_fraction: float = Field(0.25, gt=0, le=1.0, description="max particle displacement per step, in cells")
+    v_max_expected: float = Field(1.0, gt=0, description="m/s; dt <= max_cell_fraction h / v_max_expected")
     dt: float | None = Field(None, gt=0, description="override dt, s (must satisfy both limits)")
     max_steps: int = Field(
-        20_000_000, ge=1,
+        20_000_000,
+        ge=1,
         description="most time steps t_end / dt a run may take: a larger estimate is refused before any compute",
     )
 
@@ -258,7 +268,9 @@ SHAPES: tuple[str, ...] = get_args(Shape)
 
 class TransferConfig(_Model):
     flip: float | None = Field(
-        None, ge=0.0, le=1.0,
+        None,
+        ge=0.0,
+        le=1.0,
         description="share of FLIP in the points' new velocity: v_p <- flip (v_p + sum w (v_i - v_i_old)) + "
         "(1 - flip) sum w v_i, with v_i_old the grid velocity P2G gave, before forces and contact. None (the "
         "default): exp(-dt / tau), tau = pic_time h sqrt(rho_c / E), so that the PIC part damps at a rate per "
@@ -268,7 +280,8 @@ class TransferConfig(_Model):
         "follow the grid velocity either way",
     )
     pic_time: float = Field(
-        10.0, gt=0.0,
+        10.0,
+        gt=0.0,
         description="with flip = None: the time over which the PIC part relaxes a point's own velocity to the "
         "grid's, in elastic cell-crossing times h sqrt(rho_c / E) (at the default cfl 0.3, 10 gives a PIC "
         "share of 3 % per step; it falls with dt, so the damping per second stays the same)",
@@ -290,7 +303,9 @@ class OutputConfig(_Model):
     checkpoint_every: float | None = Field(None, gt=0, description="checkpoint interval, s")
     guard_every_steps: int = Field(50, ge=1, description="NaN/escape/CFL check interval, steps")
     escape_margin_cells: float = Field(
-        1.0, ge=0, le=2.0,
+        1.0,
+        ge=0,
+        le=2.0,
         description="a point more than this many cells outside [0, Lx] x [0, Lz] has escaped "
         "(walls act on grid nodes, so points may sit a fraction of a cell beyond them)",
     )
@@ -308,7 +323,9 @@ class BackendConfig(_Model):
     precision: Literal["f32", "f64"] = "f32"
     cpu_threads: int | None = Field(None, ge=1)
     p2g_chunks: int = Field(
-        16, ge=1, le=31,
+        16,
+        ge=1,
+        le=31,
         description="CPU: P2G into this many private grid copies (no atomics, deterministic sum "
         "order independent of the thread count; more chunks than threads balance the load, and "
         "the grid update sums each copy only over its chunk's box); GPU uses atomics instead",
@@ -351,8 +368,10 @@ class MPMConfig(_Model):
     intruders: list[IntruderConfig] = Field(default_factory=list)
     gravity: Vec2 = Field((0.0, -9.8), description="m/s^2, (gx, gz)")
     contact: Literal["surface", "band"] = Field(
-        "surface", description="rigid-body contact: 'surface', at the points, against the body's exact surface "
-        "(docs/mpm.md); 'band', at the grid nodes within contact_band_cells of the body")
+        "surface",
+        description="rigid-body contact: 'surface', at the points, against the body's exact surface "
+        "(docs/mpm.md); 'band', at the grid nodes within contact_band_cells of the body",
+    )
     contact_band_cells: float = Field(
         1.0, ge=0, description="contact 'band': grid nodes within this distance (cells) of a body are in contact"
     )
@@ -368,8 +387,10 @@ class MPMConfig(_Model):
             if r.x0 < 0 or r.z0 < 0 or r.x1 > lx or r.z1 > lz:
                 raise ValueError(f"bed.rectangles: {r} lies outside the domain {lx} x {lz}")
         if self.bed.density_ratio < self.material.rho_floor_fraction:
-            raise ValueError(f"bed.density_ratio {self.bed.density_ratio} is below material.rho_floor_fraction "
-                             f"{self.material.rho_floor_fraction}: points would be compacted to the floor at once")
+            raise ValueError(
+                f"bed.density_ratio {self.bed.density_ratio} is below material.rho_floor_fraction "
+                f"{self.material.rho_floor_fraction}: points would be compacted to the floor at once"
+            )
         check_mpm_geometry(self)  # simple polygons of positive area, inside the box
         return self
 

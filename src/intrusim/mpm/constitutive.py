@@ -25,7 +25,6 @@ The same law is written twice: a Taichi function for the solver and a NumPy func
 reference step and the unit tests.
 """
 
-
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,8 +105,9 @@ def _make_update(yield_return):
 
     @ti.func
     def update(sigma, s_yy, L, rho, dt, prm):
-        t_xx, t_zz, t_xz, t_yy, dgamma = components(sigma[0, 0], sigma[1, 1], sigma[0, 1], s_yy, L[0, 0], L[0, 1],
-                                                    L[1, 0], L[1, 1], rho, dt, prm)
+        t_xx, t_zz, t_xz, t_yy, dgamma = components(
+            sigma[0, 0], sigma[1, 1], sigma[0, 1], s_yy, L[0, 0], L[0, 1], L[1, 0], L[1, 1], rho, dt, prm
+        )
         return ti.Matrix([[t_xx, t_xz], [t_xz, t_zz]]), t_yy, dgamma
 
     update.components = components
@@ -151,7 +151,12 @@ def drucker_prager_update_numpy(
 
 
 def mu_i_update_numpy(
-    sigma: np.ndarray, s_yy: np.ndarray, L: np.ndarray, rho: np.ndarray, dt: float, prm: tuple[float, ...],
+    sigma: np.ndarray,
+    s_yy: np.ndarray,
+    L: np.ndarray,
+    rho: np.ndarray,
+    dt: float,
+    prm: tuple[float, ...],
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Vectorised NumPy twin of :func:`mu_i_update`; ``prm`` = (G, lam, mu_s, rho_c, dmu, I0, d sqrt(rho_s))
     in Pa, Pa, -, kg/m^3, -, -, m sqrt(kg/m^3); the rest as :func:`drucker_prager_update_numpy`."""
@@ -183,9 +188,7 @@ def _update_numpy(sigma, s_yy, L, rho, dt, prm, yield_return):
     W = 0.5 * (L - np.swapaxes(L, 1, 2))
     tr_d = D[:, 0, 0] + D[:, 1, 1]
     eye = np.eye(2)
-    sig = sigma + dt * (
-        2 * G * D + lam * tr_d[:, None, None] * eye + W @ sigma - sigma @ W
-    )
+    sig = sigma + dt * (2 * G * D + lam * tr_d[:, None, None] * eye + W @ sigma - sigma @ W)
     syy = s_yy + dt * lam * tr_d
     p = -(sig[:, 0, 0] + sig[:, 1, 1] + syy) / 3.0
     dev = sig + p[:, None, None] * eye
@@ -258,8 +261,15 @@ class MuIDruckerPrager:
     @property
     def params(self) -> tuple[float, ...]:
         """(G, lam, mu_s, rho_c, dmu, I0, d sqrt(rho_s)) in the order :func:`mu_i_update` expects."""
-        return (self.shear_modulus, self.lame_lambda, self.mu_s, self.rho_c, self.delta_mu, self.i0,
-                self.grain_diameter * self.grain_density**0.5)
+        return (
+            self.shear_modulus,
+            self.lame_lambda,
+            self.mu_s,
+            self.rho_c,
+            self.delta_mu,
+            self.i0,
+            self.grain_diameter * self.grain_density**0.5,
+        )
 
 
 @dataclass(frozen=True)
@@ -301,13 +311,23 @@ def material_from_config(cfg: MaterialConfig) -> DruckerPragerSeparation | MuIDr
     ``cfg.mu_i`` is given, the nonlocal fluidity when ``cfg.fluidity`` is."""
     if cfg.fluidity is not None:
         f = cfg.fluidity
-        return NonlocalFluidity(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, f.amplitude, f.b,
-                                f.grain_diameter, f.grain_density, f.sweep_pairs)
+        return NonlocalFluidity(
+            cfg.shear_modulus,
+            cfg.lame_lambda,
+            cfg.mu_s,
+            cfg.rho_c,
+            f.amplitude,
+            f.b,
+            f.grain_diameter,
+            f.grain_density,
+            f.sweep_pairs,
+        )
     if cfg.mu_i is None:
         return DruckerPragerSeparation.from_config(cfg)
     m = cfg.mu_i
-    return MuIDruckerPrager(cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, m.delta_mu, m.i0,
-                            m.grain_diameter, m.grain_density)
+    return MuIDruckerPrager(
+        cfg.shear_modulus, cfg.lame_lambda, cfg.mu_s, cfg.rho_c, m.delta_mu, m.i0, m.grain_diameter, m.grain_density
+    )
 
 
 def pressure(sigma: np.ndarray, s_yy: np.ndarray) -> np.ndarray:
@@ -325,8 +345,12 @@ def stress_update_kernel(n_params: int = 4, update=drucker_prager_update):
 
         @ti.kernel
         def stress_update_batch(
-            sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), L: ti.types.ndarray(),
-            rho: ti.types.ndarray(), dgamma: ti.types.ndarray(), dt: float,
+            sigma: ti.types.ndarray(),
+            s_yy: ti.types.ndarray(),
+            L: ti.types.ndarray(),
+            rho: ti.types.ndarray(),
+            dgamma: ti.types.ndarray(),
+            dt: float,
             prm: ti.types.vector(n_params, float),
         ):
             for p in range(sigma.shape[0]):

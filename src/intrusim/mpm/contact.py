@@ -97,9 +97,19 @@ def _make_contact_kernel(fixed: bool):
 
     @ti.kernel
     def rigid_polygon_contact(
-        gm: ti.types.ndarray(), gv: ti.types.ndarray(), verts: ti.types.ndarray(), nv: int,
-        h: float, pad: int, pose: ti.types.ndarray(), mu: float, band: float, reach: float, dt: float,
-        impulse: ti.types.ndarray(), scale: float,
+        gm: ti.types.ndarray(),
+        gv: ti.types.ndarray(),
+        verts: ti.types.ndarray(),
+        nv: int,
+        h: float,
+        pad: int,
+        pose: ti.types.ndarray(),
+        mu: float,
+        band: float,
+        reach: float,
+        dt: float,
+        impulse: ti.types.ndarray(),
+        scale: float,
     ):
         """Project grid velocities against one rigid polygon; impulse[0] += (Fx, Fz, My) dt on the body.
 
@@ -116,8 +126,7 @@ def _make_contact_kernel(fixed: bool):
         bx, bz, theta = ti.cast(pose[0], float), ti.cast(pose[1], float), ti.cast(pose[2], float)
         bvx, bvz, omega = ti.cast(pose[3], float), ti.cast(pose[4], float), ti.cast(pose[5], float)
         h64 = ti.cast(h, ti.f64)
-        i0, i1, j0, j1 = node_box(pose[0], pose[1], ti.cast(reach, ti.f64) + h64, h64, pad,
-                                  gm.shape[0], gm.shape[1])
+        i0, i1, j0, j1 = node_box(pose[0], pose[1], ti.cast(reach, ti.f64) + h64, h64, pad, gm.shape[0], gm.shape[1])
         c, s = ti.cos(theta), ti.sin(theta)
         nj = j1 - j0
         ti.loop_config(serialize=backend.SERIAL_LOOPS)
@@ -153,10 +162,21 @@ def _make_point_contact_kernel(fixed: bool):
 
     @ti.kernel
     def rigid_polygon_point_contact(
-        x: ti.types.ndarray(), v: ti.types.ndarray(), mass: ti.types.ndarray(), n_points: int,
-        verts: ti.types.ndarray(), nv: int, pose: ti.types.ndarray(), lead: float, mu: float,
-        gap: float, dt: float, cand: ti.types.ndarray(), count: ti.types.ndarray(),
-        impulse: ti.types.ndarray(), scale: float,
+        x: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        n_points: int,
+        verts: ti.types.ndarray(),
+        nv: int,
+        pose: ti.types.ndarray(),
+        lead: float,
+        mu: float,
+        gap: float,
+        dt: float,
+        cand: ti.types.ndarray(),
+        count: ti.types.ndarray(),
+        impulse: ti.types.ndarray(),
+        scale: float,
     ):
         """Coulomb contact of the points (after G2P) with one rigid polygon at its exact surface.
 
@@ -226,11 +246,26 @@ def _make_grid_point_contact_kernel(fixed: bool):
 
     @ti.kernel
     def rigid_polygon_grid_point_contact(
-        x: ti.types.ndarray(), mass: ti.types.ndarray(), n_points: int, gm: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, verts: ti.types.ndarray(), nv: int,
-        pose: ti.types.ndarray(), mu: float, gap: float, reach: float, margin: float, sweeps: int,
-        near: ti.types.ndarray(), cand: ti.types.ndarray(), count_out: ti.types.ndarray(),
-        impulse: ti.types.ndarray(), scale: float,
+        x: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        n_points: int,
+        gm: ti.types.ndarray(),
+        gv: ti.types.ndarray(),
+        h: float,
+        pad: int,
+        verts: ti.types.ndarray(),
+        nv: int,
+        pose: ti.types.ndarray(),
+        mu: float,
+        gap: float,
+        reach: float,
+        margin: float,
+        sweeps: int,
+        near: ti.types.ndarray(),
+        cand: ti.types.ndarray(),
+        count_out: ti.types.ndarray(),
+        impulse: ti.types.ndarray(),
+        scale: float,
     ):
         """The contact located at the points, enforced on the grid velocities (before G2P).
 
@@ -359,8 +394,14 @@ class PolygonContact:
         of ``MPMConfig.contact``), in place of the grid nodes' band.
     """
 
-    def __init__(self, vertices: np.ndarray, mu: float, band: float, fixed_scale: float | None = None,
-                 point_gap: float | None = None):
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        mu: float,
+        band: float,
+        fixed_scale: float | None = None,
+        point_gap: float | None = None,
+    ):
         from .backend import info
 
         verts = np.asarray(vertices, dtype=float)
@@ -406,8 +447,9 @@ class PolygonContact:
         """The device pose (float64, as the contact kernel and the body's dynamics left it)."""
         return BodyPose(*(float(v) for v in self.pose.to_numpy()))
 
-    def launches(self, grid: "Grid", dt: float, prefix: str, posed_by_host: bool = True,
-                 particles=None) -> list[Launch]:
+    def launches(
+        self, grid: "Grid", dt: float, prefix: str, posed_by_host: bool = True, particles=None
+    ) -> list[Launch]:
         """The contact kernel's launch (and, in fixed point, the fold of its sums into the totals).
 
         ``posed_by_host``: first set the device pose from the ``Var`` named ``prefix + name`` for
@@ -420,19 +462,54 @@ class PolygonContact:
                 self._cand = ti.ndarray(ti.i32, shape=p.n)
                 self._near = ti.ndarray(ti.i32, shape=p.blocks)
             out = [Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS)))] if posed_by_host else []
-            out.append(Launch(_GRID_POINT_CONTACT_KERNELS[fixed], (
-                p.x, p.mass, p.n, grid.m, grid.v, grid.h, grid.pad, self._verts, len(self.vertices), self.pose,
-                self.mu, self.point_gap, self.radius + self.point_gap + grid.h, grid.h, GRID_SWEEPS,
-                self._near, self._cand, self._count, self.step_sums if fixed else self.impulse,
-                self.fixed_scale if fixed else 1.0)))
+            out.append(
+                Launch(
+                    _GRID_POINT_CONTACT_KERNELS[fixed],
+                    (
+                        p.x,
+                        p.mass,
+                        p.n,
+                        grid.m,
+                        grid.v,
+                        grid.h,
+                        grid.pad,
+                        self._verts,
+                        len(self.vertices),
+                        self.pose,
+                        self.mu,
+                        self.point_gap,
+                        self.radius + self.point_gap + grid.h,
+                        grid.h,
+                        GRID_SWEEPS,
+                        self._near,
+                        self._cand,
+                        self._count,
+                        self.step_sums if fixed else self.impulse,
+                        self.fixed_scale if fixed else 1.0,
+                    ),
+                )
+            )
             if fixed:
                 out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
             return out
-        contact = Launch(_CONTACT_KERNELS[fixed], (
-            grid.m, grid.v, self._verts, len(self.vertices), grid.h, grid.pad, self.pose, self.mu,
-            self.band, self.radius + self.band, dt, self.step_sums if fixed else self.impulse,
-            self.fixed_scale if fixed else 1.0,
-        ))
+        contact = Launch(
+            _CONTACT_KERNELS[fixed],
+            (
+                grid.m,
+                grid.v,
+                self._verts,
+                len(self.vertices),
+                grid.h,
+                grid.pad,
+                self.pose,
+                self.mu,
+                self.band,
+                self.radius + self.band,
+                dt,
+                self.step_sums if fixed else self.impulse,
+                self.fixed_scale if fixed else 1.0,
+            ),
+        )
         out = [contact]
         if posed_by_host:
             out.insert(0, Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS))))
@@ -448,11 +525,28 @@ class PolygonContact:
             return []
         fixed = self.fixed_scale is not None
         p = particles
-        out = [Launch(_POINT_CONTACT_KERNELS[fixed], (
-            p.x, p.v, p.mass, p.n, self._verts, len(self.vertices), self.pose, lead, self.mu, self.point_gap,
-            dt, self._cand, self._count, self.step_sums if fixed else self.impulse,
-            self.fixed_scale if fixed else 1.0,
-        ))]
+        out = [
+            Launch(
+                _POINT_CONTACT_KERNELS[fixed],
+                (
+                    p.x,
+                    p.v,
+                    p.mass,
+                    p.n,
+                    self._verts,
+                    len(self.vertices),
+                    self.pose,
+                    lead,
+                    self.mu,
+                    self.point_gap,
+                    dt,
+                    self._cand,
+                    self._count,
+                    self.step_sums if fixed else self.impulse,
+                    self.fixed_scale if fixed else 1.0,
+                ),
+            )
+        ]
         if fixed:
             out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
         return out

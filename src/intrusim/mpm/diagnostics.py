@@ -11,8 +11,14 @@ from .particles import get_scalar, get_sym2, get_vec2
 
 @ti.kernel
 def guard_scan(
-    x: ti.types.ndarray(), v: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int, lx: float, lz: float,
-    margin: float, out: ti.types.ndarray(),
+    x: ti.types.ndarray(),
+    v: ti.types.ndarray(),
+    sigma: ti.types.ndarray(),
+    n: int,
+    lx: float,
+    lz: float,
+    margin: float,
+    out: ti.types.ndarray(),
 ):
     """out = [n_nan, n_escaped, max |v|, index of a NaN point, index of an escaped point] over the n
     points (block arrays, see particles).
@@ -26,8 +32,13 @@ def guard_scan(
         vp = get_vec2(v, p)
         sp = get_sym2(sigma, p)
         speed = ti.cast(vp.norm(), ti.f64)
-        bad = (ti.math.isnan(xp).any() or ti.math.isnan(vp).any() or ti.math.isinf(vp).any()
-               or ti.math.isnan(sp).any() or ti.math.isinf(sp).any())
+        bad = (
+            ti.math.isnan(xp).any()
+            or ti.math.isnan(vp).any()
+            or ti.math.isinf(vp).any()
+            or ti.math.isnan(sp).any()
+            or ti.math.isinf(sp).any()
+        )
         if bad:
             out[0] += 1.0
             ti.atomic_max(out[3], ti.cast(p, ti.f64))
@@ -39,9 +50,7 @@ def guard_scan(
 
 
 @ti.kernel
-def kinetic_energy_and_mass(
-    v: ti.types.ndarray(), mass: ti.types.ndarray(), n: int, out: ti.types.ndarray()
-):
+def kinetic_energy_and_mass(v: ti.types.ndarray(), mass: ti.types.ndarray(), n: int, out: ti.types.ndarray()):
     """out = [sum m |v|^2 / 2 (J/m), sum m (kg/m)] in float64 over the n points (block arrays)."""
     out[0] = 0.0
     out[1] = 0.0
@@ -61,8 +70,9 @@ def make_scratch(n: int = 5):
     return ti.ndarray(ti.f64, shape=n)
 
 
-def guard_report(out: np.ndarray, x: np.ndarray, v: np.ndarray, dt: float, h: float,
-                 max_cell_fraction: float) -> str | None:
+def guard_report(
+    out: np.ndarray, x: np.ndarray, v: np.ndarray, dt: float, h: float, max_cell_fraction: float
+) -> str | None:
     """Diagnosis text for a failed guard, or None if all is well."""
     n_nan, n_esc, vmax = int(out[0]), int(out[1]), float(out[2])
     if n_nan:
@@ -93,10 +103,14 @@ def body_report(bodies, lx: float, lz: float, dt: float, h: float, max_cells_per
             return f"NaN/inf in body {k}'s state: " + ", ".join(f"{n}={v}" for n, v in bad.items())
         radius = float(np.max(np.linalg.norm(np.asarray(body.contact.vertices, dtype=float), axis=1)))
         if st.x + radius < 0.0 or st.x - radius > lx or st.z + radius < 0.0 or st.z - radius > lz:
-            return (f"body escape: body {k} left the box {lx:g} x {lz:g} m, at x={st.x:.4g} m, z={st.z:.4g} m, "
-                    f"v=({st.vx:.4g}, {st.vz:.4g}) m/s")
+            return (
+                f"body escape: body {k} left the box {lx:g} x {lz:g} m, at x={st.x:.4g} m, z={st.z:.4g} m, "
+                f"v=({st.vx:.4g}, {st.vz:.4g}) m/s"
+            )
         speed = math.hypot(st.vx, st.vz) + abs(st.omega) * radius
         if speed * dt > max_cells_per_step * h:
-            return (f"body CFL breach: body {k} moves {speed * dt / h:.3g} cells per step (limit {max_cells_per_step:g}; "
-                    f"v=({st.vx:.4g}, {st.vz:.4g}) m/s, omega={st.omega:.4g} rad/s) at x={st.x:.4g} m, z={st.z:.4g} m")
+            return (
+                f"body CFL breach: body {k} moves {speed * dt / h:.3g} cells per step (limit {max_cells_per_step:g}; "
+                f"v=({st.vx:.4g}, {st.vz:.4g}) m/s, omega={st.omega:.4g} rad/s) at x={st.x:.4g} m, z={st.z:.4g} m"
+            )
     return None

@@ -27,16 +27,22 @@ In the step (explicit MPM):
    nonlocal excess g - g_loc of the grid field (explicit).
 """
 
-
 import numpy as np
 import taichi as ti
 
 from . import backend
-from .grid import make_record, record_index, record_width, union_box, zero_record
 from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
+from .grid import make_record, record_index, record_width, union_box, zero_record
 from .particles import LANES, XX, XZ, ZZ, chunk_blocks, get_scalar, get_sym2, get_vec2, set_scalar, set_sym2
-from .transfer import (CHUNK_SPREAD, add_block_records, add_plastic_strain, any_lane, lane_nodes, quadratic_weights,
-                       stencil_lanes)
+from .transfer import (
+    CHUNK_SPREAD,
+    add_block_records,
+    add_plastic_strain,
+    any_lane,
+    lane_nodes,
+    quadratic_weights,
+    stencil_lanes,
+)
 
 #: Drucker-Prager friction that never yields: the G2P trial of a nonlocal material stays elastic
 NO_YIELD = 1.0e20
@@ -61,7 +67,9 @@ def pressure_and_tau(s_xx, s_zz, s_xz, s_yy):
 
 
 @ti.func
-def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(), nx, ny, h, pad, prm):
+def _point_source(
+    p, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(), nx, ny, h, pad, prm
+):
     """Base node, weights and m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1) of point p; ``prm`` = (mu_s, b, d, rho_s)."""
     mu_s, b, d, rho_s = prm[0], prm[1], prm[2], prm[3]
     P, tau = _pressure_and_tau(get_sym2(sigma, p), get_scalar(s_yy, p))
@@ -76,8 +84,22 @@ def _point_source(p, x: ti.template(), mass: ti.template(), sigma: ti.template()
 
 
 @ti.func
-def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
-                    parts: ti.template(), nx, ny, h, pad, prm, mode: ti.template(), scale):
+def _scatter_source(
+    p,
+    c,
+    x: ti.template(),
+    mass: ti.template(),
+    sigma: ti.template(),
+    s_yy: ti.template(),
+    parts: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    prm,
+    mode: ti.template(),
+    scale,
+):
     """Point p's sources into copy c of ``parts`` (records, ``grid.record_index``, ``grid.record_width``: the stencil's
     first node addressed once, the other 8 at fixed offsets), by ``fixed_point.scatter_add`` (PLAIN: one
     loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
@@ -90,8 +112,9 @@ def _scatter_source(p, c, x: ti.template(), mass: ti.template(), sigma: ti.templ
 
 
 @ti.func
-def _source_lanes(blk, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(),
-                  nx, ny, h, pad, prm):
+def _source_lanes(
+    blk, x: ti.template(), mass: ti.template(), sigma: ti.template(), s_yy: ti.template(), nx, ny, h, pad, prm
+):
     """:func:`_point_source` for the LANES points of block ``blk``, each quantity a vector over them
     (branch-free): the stencil's base node per axis (floats) and, per node (a, e), the record
     w m_p (|dmu|, |dmu| g_loc, 1) it receives."""
@@ -103,8 +126,11 @@ def _source_lanes(blk, x: ti.template(), mass: ti.template(), sigma: ti.template
     m = mass[blk, 0]
     val = (m * dmu, m * (dmu * gloc), m * 1.0)
     b0, f0, w0, b1, f1, w1 = stencil_lanes(x, blk, h, pad, nx, ny)
-    records = [(w0[a] * w1[e] * val[0], w0[a] * w1[e] * val[1], w0[a] * w1[e] * val[2])
-               for a in ti.static(range(3)) for e in ti.static(range(3))]
+    records = [
+        (w0[a] * w1[e] * val[0], w0[a] * w1[e] * val[1], w0[a] * w1[e] * val[2])
+        for a in ti.static(range(3))
+        for e in ti.static(range(3))
+    ]
     return b0, b1, records
 
 
@@ -136,9 +162,19 @@ def _make_sources_kernel(mode: int, lanes: bool):
 
     @ti.kernel
     def fluidity_sources(
-        x: ti.types.ndarray(), mass: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), n: int,
-        parts: ti.types.ndarray(), box_parts: ti.types.ndarray(), box: ti.types.ndarray(), src: ti.types.ndarray(),
-        h: float, pad: int, prm: ti.types.vector(4, float), scale: float,
+        x: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(),
+        n: int,
+        parts: ti.types.ndarray(),
+        box_parts: ti.types.ndarray(),
+        box: ti.types.ndarray(),
+        src: ti.types.ndarray(),
+        h: float,
+        pad: int,
+        prm: ti.types.vector(4, float),
+        scale: float,
     ):
         """src[i, j] = sum_p w_ip m_p (|mu - mu_s|, |mu - mu_s| g_loc, 1) over the n points (block arrays,
         see particles); ``prm`` = (mu_s, b, d, rho_s).
@@ -164,8 +200,9 @@ def _make_sources_kernel(mode: int, lanes: bool):
                         i0, i1, j0, j1 = nx, 0, ny, 0
                         for blk in range(first, end):
                             b0, b1, records = _source_lanes(blk, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
-                            i0, i1, j0, j1 = add_block_records(parts, c, blk * LANES, n, b0, b1, records,
-                                                               nx, ny, i0, i1, j0, j1)
+                            i0, i1, j0, j1 = add_block_records(
+                                parts, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1
+                            )
                         box_parts[c, 0], box_parts[c, 1], box_parts[c, 2], box_parts[c, 3] = i0, i1, j0, j1
                     else:
                         lo = ti.Vector([nx, ny])
@@ -224,8 +261,16 @@ def fluidity_jacobi_kernel(rows: bool):
 
 
 @ti.func
-def _sweep_node(src: ti.template(), g_in: ti.template(), g_out: ti.template(), excess: ti.template(), i, j,
-                kappa, last: ti.template()):
+def _sweep_node(
+    src: ti.template(),
+    g_in: ti.template(),
+    g_out: ti.template(),
+    excess: ti.template(),
+    i,
+    j,
+    kappa,
+    last: ti.template(),
+):
     """g_out[i, j] from g_in (:func:`_jacobi_node`); in the ``last`` sweep also the node's excess g - g_loc."""
     gn = _jacobi_node(src, g_in, i, j, kappa)
     g_out[i, j] = gn
@@ -236,8 +281,14 @@ def _sweep_node(src: ti.template(), g_in: ti.template(), g_out: ti.template(), e
 
 def _make_jacobi_kernel(rows: bool):
     @ti.kernel
-    def fluidity_jacobi(src: ti.types.ndarray(), g: ti.types.ndarray(), g_tmp: ti.types.ndarray(),
-                        excess: ti.types.ndarray(), box: ti.types.ndarray(), kappa: float):
+    def fluidity_jacobi(
+        src: ti.types.ndarray(),
+        g: ti.types.ndarray(),
+        g_tmp: ti.types.ndarray(),
+        excess: ti.types.ndarray(),
+        box: ti.types.ndarray(),
+        kappa: float,
+    ):
         """Two Jacobi sweeps, g -> g_tmp -> g, and the nonlocal excess g - g_loc of each node (g_loc:
         its |dmu|-weighted local fluidity, 0 where no point has |dmu| > 0) for ``fluidity_relax``, on
         the nodes of the box ``box[4:8]`` of the sources' kernel (outside it all three are zero)."""
@@ -289,8 +340,15 @@ def fluidity_relax_kernel(lanes: bool = False):
 def _make_relax_kernel(lanes: bool):
     @ti.kernel
     def fluidity_relax(
-        x: ti.types.ndarray(), sigma: ti.types.ndarray(), s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(),
-        gdot_p: ti.types.ndarray(), excess: ti.types.ndarray(), h: float, pad: int, dt: float,
+        x: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(),
+        eps_p: ti.types.ndarray(),
+        gdot_p: ti.types.ndarray(),
+        excess: ti.types.ndarray(),
+        h: float,
+        pad: int,
+        dt: float,
         prm: ti.types.vector(5, float),
     ):
         """The flow of each stressed point at fixed pressure (:func:`relaxed_tau`), with the nonlocal
@@ -309,7 +367,11 @@ def _make_relax_kernel(lanes: bool):
                         ex += w[a][0] * w[c][1] * excess[base[0] + a, base[1] + c]
                     scale = relaxed_tau(tau, P, ex, dt, prm) / tau
                     a_xx, a_zz, a_yy = sig[0, 0] + P, sig[1, 1] + P, syy + P
-                    set_sym2(sigma, p, ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]]))
+                    set_sym2(
+                        sigma,
+                        p,
+                        ti.Matrix([[a_xx * scale - P, sig[0, 1] * scale], [sig[0, 1] * scale, a_zz * scale - P]]),
+                    )
                     set_scalar(s_yy, p, a_yy * scale - P)
                     add_plastic_strain(eps_p, gdot_p, p, tau * (1.0 - scale) / prm[0], dt)
         else:

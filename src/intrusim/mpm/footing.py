@@ -15,8 +15,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from .config import (
-    BedConfig, BoundaryConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig, OutputConfig,
-    PrescribedMotion, Rectangle, TimeConfig, WallConfig,
+    BedConfig,
+    BoundaryConfig,
+    DomainConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    OutputConfig,
+    PrescribedMotion,
+    Rectangle,
+    TimeConfig,
+    WallConfig,
 )
 
 # Martin (2005), exact N_gamma of a rough strip footing (method of characteristics, associated flow)
@@ -86,12 +95,18 @@ class FootingCase:
             material=MaterialConfig(rho_c=self.rho, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus),
             bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=lx, z1=bed_top)]),
             boundaries=BoundaryConfig(floor=WallConfig(kind="sticky")),
-            intruders=[IntruderConfig(
-                vertices=[(-b / 2, 0.0), (b / 2, 0.0), (b / 2, t), (-b / 2, t)], width=1.0, mu_w=self.mu_w,
-                x=lx / 2, z=bed_top,
-                motion=PrescribedMotion(vz=-self.speed, ramp_time=self.ramp_fraction * b / self.speed),
-            )],
-            contact=self.contact, contact_band_cells=self.contact_band_cells,
+            intruders=[
+                IntruderConfig(
+                    vertices=[(-b / 2, 0.0), (b / 2, 0.0), (b / 2, t), (-b / 2, t)],
+                    width=1.0,
+                    mu_w=self.mu_w,
+                    x=lx / 2,
+                    z=bed_top,
+                    motion=PrescribedMotion(vz=-self.speed, ramp_time=self.ramp_fraction * b / self.speed),
+                )
+            ],
+            contact=self.contact,
+            contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, cfl=self.cfl, v_max_expected=0.5, dt=self.dt),
             output=OutputConfig(record_every=t_end / self.records),
             backend=backend or {},

@@ -3,7 +3,6 @@
 Node (i, j) sits at ((i - pad) h, (j - pad) h); the physical domain is [0, Lx] x [0, Lz].
 """
 
-
 import numpy as np
 import taichi as ti
 
@@ -18,8 +17,16 @@ PAD = 3  # cells of padding around the domain, enough for the quadratic stencil 
 class Grid:
     """Grid arrays for a domain of ``cells`` cells of size ``h`` (m)."""
 
-    def __init__(self, size: tuple[float, float], cells: tuple[int, int], chunks: int = 1,
-                 fixed_density: float | None = None, flip: bool = False, pad: int = PAD, flip_in_records: bool = False):
+    def __init__(
+        self,
+        size: tuple[float, float],
+        cells: tuple[int, int],
+        chunks: int = 1,
+        fixed_density: float | None = None,
+        flip: bool = False,
+        pad: int = PAD,
+        flip_in_records: bool = False,
+    ):
         real = info().real
         self.size = (float(size[0]), float(size[1]))
         self.cells = (int(cells[0]), int(cells[1]))
@@ -49,8 +56,11 @@ class Grid:
         # instead of a second array (P2G 1.25 -> 1.11 ms at 64k points on 2 threads, docs/mpm.md)
         self.flip_in_records = bool(flip_in_records and flip and self.chunks > 1)
         width = 8 if self.flip_in_records else record_width(self.chunks > 1)
-        self.mp_parts = ti.Vector.ndarray(width, dtype,  # kg/s, kg/m
-                                          shape=self.chunks * self.shape[0] * self.shape[1])
+        self.mp_parts = ti.Vector.ndarray(
+            width,
+            dtype,  # kg/s, kg/m
+            shape=self.chunks * self.shape[0] * self.shape[1],
+        )
         self.m = ti.ndarray(real, shape=self.shape)  # node mass, kg/m
         self.v = ti.Vector.ndarray(2, real, shape=self.shape)  # node velocity, m/s
         # FLIP (TransferConfig.flip): the momentum before forces in copies as mp_parts', and the grid
@@ -133,11 +143,23 @@ def wall_node_velocity(v, xi, zj, h, lx, kinds, mus):
 def _make_grid_update(flip: bool):
     @ti.kernel
     def grid_update(
-        mp_parts: ti.types.ndarray(), box_parts: ti.types.ndarray(),
-        box: ti.types.ndarray(), col_mask: ti.types.ndarray(), m: ti.types.ndarray(),
-        v: ti.types.ndarray(), dt: float, gx: float, gz: float, h: float, pad: int, lx: float,
-        kinds: ti.types.vector(3, int), mus: ti.types.vector(3, float), inv_scale: float,
-        mo_parts: ti.types.ndarray(), v_old: ti.types.ndarray(),
+        mp_parts: ti.types.ndarray(),
+        box_parts: ti.types.ndarray(),
+        box: ti.types.ndarray(),
+        col_mask: ti.types.ndarray(),
+        m: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        dt: float,
+        gx: float,
+        gz: float,
+        h: float,
+        pad: int,
+        lx: float,
+        kinds: ti.types.vector(3, int),
+        mus: ti.types.vector(3, float),
+        inv_scale: float,
+        mo_parts: ti.types.ndarray(),
+        v_old: ti.types.ndarray(),
     ):
         """m_i = sum of copies ;  v_i = (m v)_i / m_i + dt g, then the walls (left, right, floor).
 
@@ -175,7 +197,9 @@ def _make_grid_update(flip: bool):
             pi = ti.Vector([0.0, 0.0])
             po = ti.Vector([0.0, 0.0])  # FLIP: the momentum before forces
             mask = col_mask[i, 0]
-            for c in range(col_mask[i, 1], col_mask[i, 2] + 1):  # the copies whose chunk touched this node, in chunk order
+            for c in range(
+                col_mask[i, 1], col_mask[i, 2] + 1
+            ):  # the copies whose chunk touched this node, in chunk order
                 if (mask >> c) & 1 and box_parts[c, 2] <= j < box_parts[c, 3]:
                     k = record_index(c, i, j, nx, ny)
                     rec = mp_parts[k]  # float: the backend's real type (a no-op on real copies)
@@ -190,8 +214,9 @@ def _make_grid_update(flip: bool):
             m[i, j] = mi
             vi = ti.Vector([0.0, 0.0])
             if mi > 0.0:
-                vi = wall_node_velocity(pi / mi + dt * ti.Vector([gx, gz]), (i - pad) * h, (j - pad) * h,
-                                        h, lx, kinds, mus)
+                vi = wall_node_velocity(
+                    pi / mi + dt * ti.Vector([gx, gz]), (i - pad) * h, (j - pad) * h, h, lx, kinds, mus
+                )
             v[i, j] = vi
             if ti.static(flip):
                 vo = ti.Vector([0.0, 0.0])

@@ -57,9 +57,19 @@ def ramp_integral(t: float, ramp_time: float) -> float:
 
 @ti.kernel
 def advance_coupled(
-    pose: ti.types.ndarray(), impulse: ti.types.ndarray(), impulse_prev: ti.types.ndarray(),
-    dt: ti.f64, width: ti.f64, fx_ext: ti.f64, fz_ext: ti.f64, weight: ti.f64, mass_x: ti.f64,
-    mass_z: ti.f64, free_x: ti.i32, free_z: ti.i32, omega_next: ti.f64,
+    pose: ti.types.ndarray(),
+    impulse: ti.types.ndarray(),
+    impulse_prev: ti.types.ndarray(),
+    dt: ti.f64,
+    width: ti.f64,
+    fx_ext: ti.f64,
+    fz_ext: ti.f64,
+    weight: ti.f64,
+    mass_x: ti.f64,
+    mass_z: ti.f64,
+    free_x: ti.i32,
+    free_z: ti.i32,
+    omega_next: ti.f64,
 ):
     """m dv/dt = F width + F_ext (semi-implicit Euler) on the device; F = this step's impulse / dt.
 
@@ -89,8 +99,15 @@ class Intruder:
     step's impulse back, advances the body and hands the pose to the next step.
     """
 
-    def __init__(self, cfg: IntruderConfig, band: float, gravity: tuple[float, float],
-                 fixed_scale: float | None = None, on_device: bool = False, point_gap: float | None = None):
+    def __init__(
+        self,
+        cfg: IntruderConfig,
+        band: float,
+        gravity: tuple[float, float],
+        fixed_scale: float | None = None,
+        on_device: bool = False,
+        point_gap: float | None = None,
+    ):
         self.cfg = cfg
         self.width = cfg.width
         self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale, point_gap)
@@ -152,9 +169,7 @@ class Intruder:
         if isinstance(m, PrescribedMotion):
             f, s = ramp(t, m.ramp_time), ramp_integral(t, m.ramp_time)
             x0, z0, th0 = self.x0
-            self.state = IntruderState(
-                x0 + m.vx * s, z0 + m.vz * s, th0 + m.omega * s, m.vx * f, m.vz * f, m.omega * f
-            )
+            self.state = IntruderState(x0 + m.vx * s, z0 + m.vz * s, th0 + m.omega * s, m.vx * f, m.vz * f, m.omega * f)
         else:
             self.state.omega = m.omega * ramp(t, m.ramp_time)
 
@@ -174,11 +189,26 @@ class Intruder:
         if not self.on_device:
             return []
         m = self.cfg.motion
-        return [Launch(advance_coupled, (
-            self.contact.pose, self.contact.impulse, self._impulse_prev_nd, dt, self.width,
-            float(m.external_force[0]), float(m.external_force[1]), m.mass_z * self.gravity[1],
-            m.mass_x, m.mass_z, int(m.free_x), int(m.free_z), Var(prefix + "omega_next"),
-        ))]
+        return [
+            Launch(
+                advance_coupled,
+                (
+                    self.contact.pose,
+                    self.contact.impulse,
+                    self._impulse_prev_nd,
+                    dt,
+                    self.width,
+                    float(m.external_force[0]),
+                    float(m.external_force[1]),
+                    m.mass_z * self.gravity[1],
+                    m.mass_x,
+                    m.mass_z,
+                    int(m.free_x),
+                    int(m.free_z),
+                    Var(prefix + "omega_next"),
+                ),
+            )
+        ]
 
     def launch_values(self, t_next: float, prefix: str) -> dict[str, float]:
         """The ``Var`` values of :meth:`launches` for the step that ends at ``t_next``; writes a

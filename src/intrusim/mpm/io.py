@@ -101,8 +101,10 @@ def run_lock(run_dir: Path | None):
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise InputError(f"{run_dir} is in use by another run (its lock {LOCK} is held); wait for it, "
-                             "or choose another output folder") from None
+            raise InputError(
+                f"{run_dir} is in use by another run (its lock {LOCK} is held); wait for it, "
+                "or choose another output folder"
+            ) from None
         for stale in list(run_dir.glob("*.tmp")) + list(run_dir.glob("*/*.tmp")):
             stale.unlink(missing_ok=True)
         yield
@@ -120,7 +122,9 @@ def safe_child(root: str | Path, name: str) -> Path:
     return Path(root) / name
 
 
-CONFIG_KEY_IGNORED = frozenset({"backend.cpu_threads", "output.directory", "time.t_end", "time.max_steps", "output.escaped"})
+CONFIG_KEY_IGNORED = frozenset(
+    {"backend.cpu_threads", "output.directory", "time.t_end", "time.max_steps", "output.escaped"}
+)
 
 
 def checkpoint_config(cfg: MPMConfig) -> dict:
@@ -257,9 +261,15 @@ def write_pvd(path: Path, entries: list[tuple[float, str, int]]) -> None:
     atomic_write_bytes(Path(path), "\n".join(lines).encode())
 
 
-def plot_field(path: Path, x: np.ndarray, value: np.ndarray, label: str,
-               polygons: list[np.ndarray] | None = None, size: tuple[float, float] | None = None,
-               log: bool = False) -> None:
+def plot_field(
+    path: Path,
+    x: np.ndarray,
+    value: np.ndarray,
+    label: str,
+    polygons: list[np.ndarray] | None = None,
+    size: tuple[float, float] | None = None,
+    log: bool = False,
+) -> None:
     """Scatter plot of the particles coloured by a field, with rigid bodies drawn on top."""
     import matplotlib
 

@@ -15,7 +15,6 @@ Components: x, v (x, z); C row by row (C_xx, C_xz, C_zx, C_zz); sigma, which is 
 (sigma_xx, sigma_zz, sigma_xz) (``XX, ZZ, XZ``); the scalars as one component.
 """
 
-
 import numpy as np
 import taichi as ti
 
@@ -175,8 +174,6 @@ def chunk_blocks(c, n_chunks, blocks):
     """Blocks [first, end) of chunk c of n_chunks (a whole number of blocks each, so that a chunk's
     vectorised loop and its one-point loop cover the same points)."""
     return c * blocks // n_chunks, (c + 1) * blocks // n_chunks
-
-
 
 
 def split_points(arrays: dict[str, np.ndarray], spacing: float, factor: int) -> dict[str, np.ndarray]:

@@ -14,8 +14,18 @@ import numpy as np
 from intrusim.analysis.plates import fit_drag_law  # noqa: F401  (re-exported: the Fig 6 fit)
 
 from .config import (
-    BedConfig, BoundaryConfig, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
-    OutputConfig, PrescribedMotion, Rectangle, TimeConfig, TransferConfig, WallConfig,
+    BedConfig,
+    BoundaryConfig,
+    DomainConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    OutputConfig,
+    PrescribedMotion,
+    Rectangle,
+    TimeConfig,
+    TransferConfig,
+    WallConfig,
 )
 
 
@@ -57,13 +67,20 @@ class PlateDragCase:
             material=MaterialConfig(rho_c=self.rho, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus),
             bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=self.domain[0], z1=self.bed_height)]),
             boundaries=BoundaryConfig(floor=WallConfig(kind="sticky")),
-            intruders=[IntruderConfig(
-                vertices=plate_polygon(self.plate_length, self.plate_thickness), width=1.0,
-                mu_w=self.mu_w, x=self.start_x, z=z_surface - self.depth,
-                motion=PrescribedMotion(vx=self.speed,
-                                        ramp_time=self.ramp_fraction * self.plate_length / self.speed),
-            )],
-            contact=self.contact, contact_band_cells=self.contact_band_cells,
+            intruders=[
+                IntruderConfig(
+                    vertices=plate_polygon(self.plate_length, self.plate_thickness),
+                    width=1.0,
+                    mu_w=self.mu_w,
+                    x=self.start_x,
+                    z=z_surface - self.depth,
+                    motion=PrescribedMotion(
+                        vx=self.speed, ramp_time=self.ramp_fraction * self.plate_length / self.speed
+                    ),
+                )
+            ],
+            contact=self.contact,
+            contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, cfl=self.cfl, v_max_expected=max(self.speed, 0.5)),
             transfer=TransferConfig(flip=self.flip, shape=self.shape),
             output=OutputConfig(directory=directory, record_every=t_end / 100),
@@ -94,13 +111,18 @@ class VerticalPlateCase:
             domain=DomainConfig(size=self.domain, cells=self.cells),
             material=MaterialConfig(rho_c=self.rho, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus),
             bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=self.domain[0], z1=self.bed_height)]),
-            intruders=[IntruderConfig(
-                vertices=plate_polygon(self.plate_length, self.plate_thickness, vertical=False),
-                width=1.0, mu_w=self.mu_w, x=self.domain[0] / 2,
-                z=self.bed_height + self.plate_thickness / 2 + 0.5 * self.domain[0] / self.cells[0],
-                motion=PrescribedMotion(vz=-self.speed,
-                                        ramp_time=self.ramp_fraction * self.plate_length / self.speed),
-            )],
+            intruders=[
+                IntruderConfig(
+                    vertices=plate_polygon(self.plate_length, self.plate_thickness, vertical=False),
+                    width=1.0,
+                    mu_w=self.mu_w,
+                    x=self.domain[0] / 2,
+                    z=self.bed_height + self.plate_thickness / 2 + 0.5 * self.domain[0] / self.cells[0],
+                    motion=PrescribedMotion(
+                        vz=-self.speed, ramp_time=self.ramp_fraction * self.plate_length / self.speed
+                    ),
+                )
+            ],
             time=TimeConfig(t_end=t_end, v_max_expected=max(self.speed, 0.5)),
             output=OutputConfig(directory=directory, record_every=t_end / 100),
             backend=backend or {},

@@ -33,9 +33,18 @@ def _wall(v: np.ndarray, n: np.ndarray, kind: int, mu: float) -> np.ndarray:
     return np.where((vn < 0)[:, None], vt * scale[:, None], v)
 
 
-def numpy_step(state: dict[str, np.ndarray], h: float, pad: int, shape: tuple[int, int],
-               lx: float, dt: float, gravity: tuple[float, float], prm: tuple[float, ...],
-               walls: tuple[tuple[int, float], ...], rho_floor: float) -> None:
+def numpy_step(
+    state: dict[str, np.ndarray],
+    h: float,
+    pad: int,
+    shape: tuple[int, int],
+    lx: float,
+    dt: float,
+    gravity: tuple[float, float],
+    prm: tuple[float, ...],
+    walls: tuple[tuple[int, float], ...],
+    rho_floor: float,
+) -> None:
     """Advance ``state`` (dict of particle arrays as in :data:`particles.FIELDS`) by dt in place.
 
     Parameters
@@ -86,9 +95,7 @@ def numpy_step(state: dict[str, np.ndarray], h: float, pad: int, shape: tuple[in
     state["C"] = new_C
     state["x"] = x + dt * new_v
     state["vol"] = np.minimum(vol * np.exp(dt * (new_C[:, 0, 0] + new_C[:, 1, 1])), mass / rho_floor)
-    sig, syy, dgamma = drucker_prager_update_numpy(
-        sigma, state["s_yy"], new_C, mass / state["vol"], dt, prm
-    )
+    sig, syy, dgamma = drucker_prager_update_numpy(sigma, state["s_yy"], new_C, mass / state["vol"], dt, prm)
     state["sigma"], state["s_yy"] = sig, syy
     state["eps_p"] = state["eps_p"] + dgamma
     state["gdot_p"] = dgamma / dt

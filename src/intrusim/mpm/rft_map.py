@@ -24,8 +24,16 @@ from intrusim._checks import InputError
 from intrusim.laws.rft import wrap_beta
 
 from .config import (
-    BedConfig, DomainConfig, FluidityConfig, IntruderConfig, MaterialConfig, MPMConfig, OutputConfig, PrescribedMotion,
-    Rectangle, TimeConfig,
+    BedConfig,
+    DomainConfig,
+    FluidityConfig,
+    IntruderConfig,
+    MaterialConfig,
+    MPMConfig,
+    OutputConfig,
+    PrescribedMotion,
+    Rectangle,
+    TimeConfig,
 )  # fmt: skip
 from .plate import plate_polygon
 
@@ -39,7 +47,9 @@ class PlateMapCase:
     depth: float = 0.04  # m, plate centre below the initial surface at mid-travel
     plate_length: float = 0.025  # m
     plate_thickness: float = 0.005  # m
-    speed: float = 0.05  # m/s (quasistatic: rho v^2 = 1.6 Pa, 2e-4 of the push-down stress, ~1 % of the weakest entries)
+    speed: float = (
+        0.05  # m/s (quasistatic: rho v^2 = 1.6 Pa, 2e-4 of the push-down stress, ~1 % of the weakest entries)
+    )
     travel: float = 0.02  # m
     cell_size: float = 0.0025  # m
     domain: tuple[float, float] = (0.30, 0.20)  # m
@@ -105,16 +115,27 @@ class PlateMapCase:
         return MPMConfig(
             domain=DomainConfig(size=self.domain, cells=cells),
             material=MaterialConfig(
-                rho_c=self.rho_c, mu_s=self.mu_s, youngs_modulus=self.youngs_modulus,
-                fluidity=None if self.fluidity_diameter is None else FluidityConfig(grain_diameter=self.fluidity_diameter),
+                rho_c=self.rho_c,
+                mu_s=self.mu_s,
+                youngs_modulus=self.youngs_modulus,
+                fluidity=None
+                if self.fluidity_diameter is None
+                else FluidityConfig(grain_diameter=self.fluidity_diameter),
             ),
             bed=BedConfig(rectangles=[Rectangle(x0=0, z0=0, x1=self.domain[0], z1=self.bed_height)]),
-            intruders=[IntruderConfig(
-                vertices=plate_polygon(self.plate_length, self.plate_thickness, vertical=False), width=1.0,
-                mu_w=self.mu_w, x=x0, z=z0, theta=-self.beta,
-                motion=PrescribedMotion(vx=vx, vz=vz, ramp_time=self.ramp_time),
-            )],
-            contact="band", contact_band_cells=self.contact_band_cells,
+            intruders=[
+                IntruderConfig(
+                    vertices=plate_polygon(self.plate_length, self.plate_thickness, vertical=False),
+                    width=1.0,
+                    mu_w=self.mu_w,
+                    x=x0,
+                    z=z0,
+                    theta=-self.beta,
+                    motion=PrescribedMotion(vx=vx, vz=vz, ramp_time=self.ramp_time),
+                )
+            ],
+            contact="band",
+            contact_band_cells=self.contact_band_cells,
             time=TimeConfig(t_end=t_end, v_max_expected=max(self.speed, 0.5)),
             output=OutputConfig(directory=directory, record_every=t_end / 200),
             backend=backend or {},
@@ -133,8 +154,10 @@ def measure_alpha(rows: list[dict], case: PlateMapCase, window: tuple[float, flo
     if not sel.any():
         raise InputError(f"no records in the window {window} of the run")
     return {
-        "alpha_x": float(a[sel, 0].mean()), "alpha_z": float(a[sel, 1].mean()),
-        "alpha_x_std": float(a[sel, 0].std()), "alpha_z_std": float(a[sel, 1].std()),
+        "alpha_x": float(a[sel, 0].mean()),
+        "alpha_z": float(a[sel, 1].mean()),
+        "alpha_x_std": float(a[sel, 0].std()),
+        "alpha_z_std": float(a[sel, 1].std()),
         "depth_mean": float(depth[sel].mean()),
     }
 

@@ -13,6 +13,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from intrusim._checks import InputError
+from intrusim.validation import check_run_size
+
+from . import io as mpm_io
 from .backend import ensure_initialized
 from .bed import build_bed
 from .boundaries import SIDES, Walls
@@ -20,7 +24,12 @@ from .config import MPMConfig, PrescribedMotion
 from .constitutive import NonlocalFluidity, material_from_config, pressure
 from .contact import PolygonContact
 from .diagnostics import (
-    SimulationError, body_report, guard_report, guard_scan, kinetic_energy_and_mass, make_scratch,
+    SimulationError,
+    body_report,
+    guard_report,
+    guard_scan,
+    kinetic_energy_and_mass,
+    make_scratch,
 )
 from .fluidity import FluidityField, fluidity_jacobi_kernel, fluidity_relax_kernel, fluidity_sources_kernel
 from .grid import PAD, Grid, grid_update_kernel
@@ -28,9 +37,6 @@ from .intruder import Intruder
 from .particles import FIELDS, Particles
 from .step_graph import Launch, StepGraph, run_direct
 from .transfer import g2p_kernel, p2g_args, p2g_kernel
-from . import io as mpm_io
-from intrusim._checks import InputError
-from intrusim.validation import check_run_size
 
 FLUIDITY_KEY = "grid_fluidity"  # checkpoint entry of the nonlocal fluidity's grid field
 CHECKPOINT = "checkpoint.npz"  # in the run folder, rewritten every output.checkpoint_every
@@ -96,11 +102,18 @@ class Solver:
         # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs),
         # and quadratic splines only (linear shape functions run the one-point kernels)
         self.linear = cfg.transfer.shape == "linear"
-        self._lanes = (backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32"
-                       and not self.linear)
-        self.grid = Grid(cfg.domain.size, cfg.domain.cells, chunks, cfg.material.rho_c if fixed else None,
-                         flip=cfg.transfer.flip is None or cfg.transfer.flip > 0, pad=grid_padding(cfg, self.walls),
-                         flip_in_records=self._lanes)
+        self._lanes = (
+            backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32" and not self.linear
+        )
+        self.grid = Grid(
+            cfg.domain.size,
+            cfg.domain.cells,
+            chunks,
+            cfg.material.rho_c if fixed else None,
+            flip=cfg.transfer.flip is None or cfg.transfer.flip > 0,
+            pad=grid_padding(cfg, self.walls),
+            flip_in_records=self._lanes,
+        )
         self.fixed_scale = self.grid.fixed_scale
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
@@ -108,16 +121,23 @@ class Solver:
         band = cfg.contact_band_cells * self.h
         # contact at the points (the default), at half a point spacing from the body's surface
         gap = 0.5 * self.h / cfg.domain.particles_per_cell if cfg.contact == "surface" else None
-        self.obstacles = [PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap)
-                          for o in cfg.obstacles]
-        self.intruders = [Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap)
-                          for ic in cfg.intruders]
+        self.obstacles = [
+            PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap) for o in cfg.obstacles
+        ]
+        self.intruders = [
+            Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap) for ic in cfg.intruders
+        ]
         if particles is None:
             exclude = [np.asarray(o.vertices) for o in cfg.obstacles]
             exclude += [b.world_vertices() for b in self.intruders]
             particles = build_bed(
-                cfg.domain.size, self.h, cfg.domain.particles_per_cell, cfg.bed, cfg.material,
-                self.gravity, exclude,
+                cfg.domain.size,
+                self.h,
+                cfg.domain.particles_per_cell,
+                cfg.bed,
+                cfg.material,
+                self.gravity,
+                exclude,
             )
         self.particles = Particles(particles)
         self.limits = time_step_limits(cfg)
@@ -126,10 +146,14 @@ class Solver:
             raise ValueError(f"time.dt={cfg.time.dt} exceeds the stable limit {dt_max:.4g} s")
         self.dt = cfg.time.dt or dt_max
         self.flip = flip_share(cfg, self.dt)  # FLIP's share of the points' velocity update
-        self._g2p = g2p_kernel(self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0,
-                               self.linear)
-        self.fluidity = (FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
-                         if isinstance(self.material, NonlocalFluidity) else None)
+        self._g2p = g2p_kernel(
+            self.material.taichi_update, len(self.material.params), self._lanes, self.flip > 0, self.linear
+        )
+        self.fluidity = (
+            FluidityField(self.grid.shape, chunked=self.grid.chunks > 1, fixed_scale=self.fixed_scale)
+            if isinstance(self.material, NonlocalFluidity)
+            else None
+        )
         # by the obstacles still in place: the step's launches, and its graph once compiled
         self._plans: dict[tuple[bool, ...], list[Launch]] = {}
         self._graphs: dict[tuple[bool, ...], StepGraph] = {}
@@ -156,23 +180,63 @@ class Solver:
         lanes = self._lanes and g.chunks > 1  # the vectorised scatters (P2G, fluidity sources) are the chunked ones
         launches = [
             # 1. P2G (copies left zeroed by 2.)
-            Launch(p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes, g.flip, self.linear), p2g_args(p, g, dt),
-                   unscalarized=lanes),
-            Launch(grid_update_kernel(g.flip), (  # 2. momentum + gravity, walls
-                g.mp_parts, g.box_parts, g.box, g.col_mask, g.m, g.v, dt, *self.gravity, g.h, g.pad,
-                g.size[0], self.walls.kinds, self.walls.mus, g.inv_scale, g.mo_parts, g.v_old,
-            )),
+            Launch(
+                p2g_kernel(g.chunks > 1, g.fixed_scale is not None, lanes, g.flip, self.linear),
+                p2g_args(p, g, dt),
+                unscalarized=lanes,
+            ),
+            Launch(
+                grid_update_kernel(g.flip),
+                (  # 2. momentum + gravity, walls
+                    g.mp_parts,
+                    g.box_parts,
+                    g.box,
+                    g.col_mask,
+                    g.m,
+                    g.v,
+                    dt,
+                    *self.gravity,
+                    g.h,
+                    g.pad,
+                    g.size[0],
+                    self.walls.kinds,
+                    self.walls.mus,
+                    g.inv_scale,
+                    g.mo_parts,
+                    g.v_old,
+                ),
+            ),
         ]
         for k, (o, a) in enumerate(zip(self.obstacles, active)):
             if a:
                 launches += o.launches(g, dt, f"o{k}_", posed_by_host=False, particles=p)
         for k, b in enumerate(self.intruders):  # 3. bodies (their dynamics, on the device, at the step's end)
             launches += b.launches(g, dt, f"b{k}_", particles=p)
-        launches.append(Launch(self._g2p, (  # 4-6. G2P, density, stress
-            p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.s_yy, p.eps_p, p.gdot_p,
-            g.v, g.h, g.pad, dt, self.material.params, 1.0 / self.cfg.material.rho_floor,
-            g.v_old, self.flip,
-        ), unscalarized=self._lanes))
+        launches.append(
+            Launch(
+                self._g2p,
+                (  # 4-6. G2P, density, stress
+                    p.x,
+                    p.v,
+                    p.C,
+                    p.mass,
+                    p.vol,
+                    p.sigma,
+                    p.s_yy,
+                    p.eps_p,
+                    p.gdot_p,
+                    g.v,
+                    g.h,
+                    g.pad,
+                    dt,
+                    self.material.params,
+                    1.0 / self.cfg.material.rho_floor,
+                    g.v_old,
+                    self.flip,
+                ),
+                unscalarized=self._lanes,
+            )
+        )
         for o, a in zip(self.obstacles, active):  # contact at the points (MPMConfig.contact "surface")
             if a:
                 launches += o.point_launches(p, dt, 0.0)
@@ -182,13 +246,36 @@ class Solver:
         if self.fluidity is not None:  # nonlocal fluidity: the field from the step's first stress, then the flow
             f, m = self.fluidity, self.material
             kappa = (m.amplitude * m.grain_diameter / g.h) ** 2  # A^2 d^2 / h^2
-            launches[:0] = [Launch(fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, lanes), (
-                p.x, p.mass, p.sigma, p.s_yy, p.n, f.parts, f.box_parts, f.box, f.src, g.h, g.pad, m.fluidity_params,
-                f.fixed_scale or 1.0), unscalarized=lanes)]
+            launches[:0] = [
+                Launch(
+                    fluidity_sources_kernel(f.chunked, f.fixed_scale is not None, lanes),
+                    (
+                        p.x,
+                        p.mass,
+                        p.sigma,
+                        p.s_yy,
+                        p.n,
+                        f.parts,
+                        f.box_parts,
+                        f.box,
+                        f.src,
+                        g.h,
+                        g.pad,
+                        m.fluidity_params,
+                        f.fixed_scale or 1.0,
+                    ),
+                    unscalarized=lanes,
+                )
+            ]
             sweeps = Launch(fluidity_jacobi_kernel(f.chunked), (f.src, f.g, f.g_tmp, f.excess, f.box, kappa))
             launches[1:1] = [sweeps] * m.sweep_pairs
-            launches.append(Launch(fluidity_relax_kernel(self._lanes), (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt,
-                                                    m.relax_params), unscalarized=self._lanes))
+            launches.append(
+                Launch(
+                    fluidity_relax_kernel(self._lanes),
+                    (p.x, p.sigma, p.s_yy, p.eps_p, p.gdot_p, f.excess, g.h, g.pad, dt, m.relax_params),
+                    unscalarized=self._lanes,
+                )
+            )
         return launches
 
     def step(self) -> None:
@@ -273,8 +360,11 @@ class Solver:
         self.dropped["points"] += n
         self.dropped["mass"] += mass
         i = int(np.flatnonzero(out)[0])
-        print(f"t = {self.t:.6g} s (step {self.step_count}): {n} escaped point(s) dropped, e.g. x={x[i]}, "
-              f"v={d['v'][i]}; {self.dropped['points']} so far, {self.dropped['mass']:.3g} kg/m", file=sys.stderr)
+        print(
+            f"t = {self.t:.6g} s (step {self.step_count}): {n} escaped point(s) dropped, e.g. x={x[i]}, "
+            f"v={d['v'][i]}; {self.dropped['points']} so far, {self.dropped['mass']:.3g} kg/m",
+            file=sys.stderr,
+        )
 
     def grain_energy_and_mass(self) -> tuple[float, float]:
         """Kinetic energy (J) and mass (kg) of the grains, 3D via the first intruder's width (else per m)."""
@@ -294,8 +384,10 @@ class Solver:
             row[f"{pre}x"] += self.x_offset  # in the bed's frame, across window shifts
             # the total, then the part from the grid nodes ahead of the reference point (x > x_body;
             # behind = total - ahead)
-            for suffix, impulse, marks in (("", body.contact.read_impulse(), self._impulse_mark),
-                                           ("_ahead", body.contact.read_impulse_ahead(), self._impulse_mark_ahead)):
+            for suffix, impulse, marks in (
+                ("", body.contact.read_impulse(), self._impulse_mark),
+                ("_ahead", body.contact.read_impulse_ahead(), self._impulse_mark_ahead),
+            ):
                 f = (impulse - marks[k]) / elapsed if elapsed > 0 else np.zeros(3)
                 marks[k] = impulse
                 row.update({f"{pre}{n}{suffix}": f[i] * body.width for i, n in enumerate(("fx", "fz", "moment"))})
@@ -373,7 +465,10 @@ class Solver:
         out = self.cfg.output
         t_end = self.cfg.time.t_end if t_end is None else t_end
         n_end = int(round(t_end / self.dt))
-        every = lambda period: None if period is None else max(1, int(round(period / self.dt)))
+
+        def every(period):
+            return None if period is None else max(1, int(round(period / self.dt)))
+
         rec, snap, ckpt = every(out.record_every), every(out.snapshot_every), every(out.checkpoint_every)
         if self.run_dir is not None:
             mpm_io.write_resolved_config(self.run_dir, self.cfg, {"dt": self.dt, **self.limits})
@@ -409,18 +504,29 @@ class Solver:
         snap_dir = self.run_dir / "snapshots"
         snap_dir.mkdir(parents=True, exist_ok=True)
         path = snap_dir / f"particles_{self.step_count:08d}.vtu"
-        mpm_io.write_vtk(path, {
-            "x": d["x"], "velocity": d["v"], "pressure": d["pressure"], "density": d["density"],
-            "eps_p": d["eps_p"], "gdot_p": d["gdot_p"],
-        })
+        mpm_io.write_vtk(
+            path,
+            {
+                "x": d["x"],
+                "velocity": d["v"],
+                "pressure": d["pressure"],
+                "density": d["density"],
+                "eps_p": d["eps_p"],
+                "gdot_p": d["gdot_p"],
+            },
+        )
         polygons, poses = self.body_outlines()
         if polygons:
             mpm_io.write_bodies_vtk(snap_dir / f"bodies_{self.step_count:08d}.vtu", polygons, poses)
         self._write_snapshot_collection(snap_dir)
         mpm_io.plot_field(
-            snap_dir / f"gdot_p_{self.step_count:08d}.png", d["x"], d["gdot_p"],
-            "equivalent plastic strain rate (1/s)", polygons,
-            self.cfg.domain.size, log=True,
+            snap_dir / f"gdot_p_{self.step_count:08d}.png",
+            d["x"],
+            d["gdot_p"],
+            "equivalent plastic strain rate (1/s)",
+            polygons,
+            self.cfg.domain.size,
+            log=True,
         )
         return path
 
@@ -458,8 +564,12 @@ class Solver:
         with NaN or inf is refused (SimulationError) unless ``require_finite`` is False."""
         meta = {
             "config": mpm_io.checkpoint_config(self.cfg),
-            "step_count": self.step_count, "dt": self.dt, "rows": self.rows,
-            "step_mark": self._step_mark, "x_offset": self.x_offset, "dropped": self.dropped,
+            "step_count": self.step_count,
+            "dt": self.dt,
+            "rows": self.rows,
+            "step_mark": self._step_mark,
+            "x_offset": self.x_offset,
+            "dropped": self.dropped,
             "outflow": self.outflow,
             "bodies": [b.state.as_dict() for b in self.intruders],
             "impulse": [b.contact.read_impulse().tolist() for b in self.intruders],
@@ -482,8 +592,9 @@ class Solver:
         arrays, meta = mpm_io.load_checkpoint(Path(path))
         diff = mpm_io.checkpoint_mismatch(meta.get("config"), self.cfg)
         if diff:
-            raise InputError(f"{path} is a checkpoint of another configuration (differs in {', '.join(diff[:6])}); "
-                             "it is not loaded")
+            raise InputError(
+                f"{path} is a checkpoint of another configuration (differs in {', '.join(diff[:6])}); it is not loaded"
+            )
         self.restore(arrays, meta)
 
     def restore(self, arrays: dict[str, np.ndarray], meta: dict[str, Any]) -> None:
@@ -511,7 +622,9 @@ class Solver:
             body.contact.write_impulse(meta["impulse"][k], ahead)
             body.impulse_prev = meta["impulse_prev"][k]
             self._impulse_mark[k] = np.asarray(meta["impulse_mark"][k])
-            self._impulse_mark_ahead[k] = np.asarray(meta.get("impulse_mark_ahead", [np.zeros(3)] * len(self.intruders))[k])
+            self._impulse_mark_ahead[k] = np.asarray(
+                meta.get("impulse_mark_ahead", [np.zeros(3)] * len(self.intruders))[k]
+            )
 
     def start_from(self, step_count: int, bodies: Sequence[dict[str, float]]) -> None:
         """Carry on another run's state (e.g. its points split for finer cells): the clock at
@@ -579,18 +692,26 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
         saved = MPMConfig.model_validate(saved).model_dump(mode="json")
     except ValueError:
         pass  # not a configuration of this version: compared as written
-    diff = config_differences(saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory", "time.max_steps"})
+    diff = config_differences(
+        saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory", "time.max_steps"}
+    )
     saved_end = (saved.get("time") or {}).get("t_end")
     extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
     if extends:
         diff.remove("time.t_end")
-    if "output.escaped" in diff and (saved.get("output") or {}).get("escaped") == "stop" and cfg.output.escaped == "drop":
+    if (
+        "output.escaped" in diff
+        and (saved.get("output") or {}).get("escaped") == "stop"
+        and cfg.output.escaped == "drop"
+    ):
         diff.remove("output.escaped")
     if diff:
         shown = ", ".join(diff[:6]) + (f" and {len(diff) - 6} more" if len(diff) > 6 else "")
         hint = " (a run can be extended to a later end time, not cut short)" if "time.t_end" in diff else ""
-        raise InputError(f"{run_dir} holds a run of another configuration (differs in {shown}){hint}; "
-                         "choose another output folder, or delete that one to start afresh")
+        raise InputError(
+            f"{run_dir} holds a run of another configuration (differs in {shown}){hint}; "
+            "choose another output folder, or delete that one to start afresh"
+        )
     return extends
 
 

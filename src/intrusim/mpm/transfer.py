@@ -10,14 +10,26 @@ constitutive update needs. Internal forces use the MLS-MPM gradient (Hu et al. 2
 grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines.
 """
 
-
 import taichi as ti
 
 from . import backend
-from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
+from .fixed_point import FIXED, PLAIN, scatter_add, sum_mode
 from .grid import make_record, record_index
-from .particles import (LANES, XX, XZ, ZZ, chunk_blocks, get_mat2, get_scalar, get_sym2, get_vec2, set_mat2, set_scalar,
-                        set_sym2, set_vec2)
+from .particles import (
+    LANES,
+    XX,
+    XZ,
+    ZZ,
+    chunk_blocks,
+    get_mat2,
+    get_scalar,
+    get_sym2,
+    get_vec2,
+    set_mat2,
+    set_scalar,
+    set_sym2,
+    set_vec2,
+)
 
 
 @ti.func
@@ -50,18 +62,33 @@ def kept_or_marked(x: ti.template(), p, vec, mat, mode: ti.template()) -> bool:
     for the guard); in the float modes every point is kept (a NaN then shows in the sums)."""
     kept = True
     if ti.static(mode == FIXED):
-        if (ti.math.isnan(vec).any() or ti.math.isinf(vec).any()
-                or ti.math.isnan(mat).any() or ti.math.isinf(mat).any()):
+        if ti.math.isnan(vec).any() or ti.math.isinf(vec).any() or ti.math.isnan(mat).any() or ti.math.isinf(mat).any():
             set_vec2(x, p, ti.Vector([ti.math.nan, ti.math.nan]))
             kept = False
     return kept
 
 
 @ti.func
-def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
-                  mass: ti.template(), vol: ti.template(), sigma: ti.template(),
-                  gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale,
-                  gmo: ti.template(), flip: ti.template()):
+def scatter_point(
+    p,
+    c,
+    x: ti.template(),
+    v: ti.template(),
+    C: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    gmp: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+    mode: ti.template(),
+    scale,
+    gmo: ti.template(),
+    flip: ti.template(),
+):
     """m_i += w m_p ;  (m v)_i += w [m_p v_p + (m_p C_p - dt V_p (4/h^2) sigma_p)(x_i - x_p)].
 
     With ``flip`` also (m v_old)_i += w m_p [v_p + C_p (x_i - x_p)] into ``gmo`` (the momentum before
@@ -90,8 +117,17 @@ def scatter_point(p, c, x: ti.template(), v: ti.template(), C: ti.template(),
     if ti.static(flip):  # the same with the momentum alone: affine = m_p C_p (not for a point marked above)
         if scattered:
             mc = mp * get_mat2(C, p)
-            scatter_momentum(gmo, first, w, mp * get_vec2(v, p) - h * (mc @ fx), h * ti.Vector([mc[0, 0], mc[1, 0]]),
-                             h * ti.Vector([mc[0, 1], mc[1, 1]]), ny, mode, scale)
+            scatter_momentum(
+                gmo,
+                first,
+                w,
+                mp * get_vec2(v, p) - h * (mc @ fx),
+                h * ti.Vector([mc[0, 0], mc[1, 0]]),
+                h * ti.Vector([mc[0, 1], mc[1, 1]]),
+                ny,
+                mode,
+                scale,
+            )
     return base
 
 
@@ -103,7 +139,9 @@ def scatter_stencil(gmp: ti.template(), first, w, q0, ca, cb, mp, ny, mode: ti.t
         for b in ti.static(range(3)):
             weight = w[a][0] * w[b][1]
             q = qa + b * cb
-            scatter_add(gmp, first + a * ny + b, make_record(gmp, weight * q[0], weight * q[1], weight * mp), mode, scale)
+            scatter_add(
+                gmp, first + a * ny + b, make_record(gmp, weight * q[0], weight * q[1], weight * mp), mode, scale
+            )
 
 
 @ti.func
@@ -115,9 +153,25 @@ def scatter_momentum(gmo: ti.template(), first, w, q0, ca, cb, ny, mode: ti.temp
 
 
 @ti.func
-def scatter_point_linear(p, c, x: ti.template(), v: ti.template(), mass: ti.template(), vol: ti.template(),
-                         sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt, mode: ti.template(), scale,
-                         gmo: ti.template(), flip: ti.template()):
+def scatter_point_linear(
+    p,
+    c,
+    x: ti.template(),
+    v: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    gmp: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+    mode: ti.template(),
+    scale,
+    gmo: ti.template(),
+    flip: ti.template(),
+):
     """m_i += w m_p ;  (m v)_i += w m_p v_p - dt V_p sigma_p grad w  (linear shape functions, no affine part).
 
     With ``flip`` also (m v_old)_i += w m_p v_p into ``gmo``. The records, modes and the NaN mark as
@@ -142,10 +196,28 @@ def scatter_point_linear(p, c, x: ti.template(), v: ti.template(), mass: ti.temp
 
 
 @ti.func
-def scatter_chunk_points(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(),
-                         mass: ti.template(), vol: ti.template(), sigma: ti.template(), gmp: ti.template(),
-                         nx, ny, h, pad, dt, scale, gmo: ti.template(), flip: ti.template(),
-                         linear: ti.template()):
+def scatter_chunk_points(
+    c,
+    first,
+    end,
+    n,
+    x: ti.template(),
+    v: ti.template(),
+    C: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    gmp: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+    scale,
+    gmo: ti.template(),
+    flip: ti.template(),
+    linear: ti.template(),
+):
     """The points of blocks [first, end) (below n) into grid copy c one at a time (:func:`scatter_point`,
     or :func:`scatter_point_linear`); returns the node box (i0, i1, j0, j1)."""
     lo = ti.Vector([nx, ny])
@@ -192,10 +264,22 @@ def _make_p2g_kernel(mode: int, lanes: bool, flip: bool, linear: bool):
 
     @ti.kernel
     def p2g_scatter(
-        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(), n: int,
-        gmp: ti.types.ndarray(), box: ti.types.ndarray(), nx: int, ny: int, h: float, pad: int, dt: float,
-        scale: float, gmo: ti.types.ndarray(),
+        x: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        C: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        vol: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        n: int,
+        gmp: ti.types.ndarray(),
+        box: ti.types.ndarray(),
+        nx: int,
+        ny: int,
+        h: float,
+        pad: int,
+        dt: float,
+        scale: float,
+        gmo: ti.types.ndarray(),
     ):
         """P2G of the n points (block arrays, see particles) into the grid copies ``gmp`` (records, see
         scatter_point; a grid of nx x ny nodes); ``box[c]`` = node box [i0, i1, j0, j1)
@@ -218,11 +302,31 @@ def _make_p2g_kernel(mode: int, lanes: bool, flip: bool, linear: bool):
                     first, end = chunk_blocks(c, nc, x.shape[0])
                     if ti.static(lanes):
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_lanes(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, gmo, flip)
+                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, gmo, flip
+                        )
                     else:
                         box[c, 0], box[c, 1], box[c, 2], box[c, 3] = scatter_chunk_points(
-                            c, first, end, n, x, v, C, mass, vol, sigma, gmp, nx, ny, h, pad, dt, scale, gmo, flip,
-                            linear)
+                            c,
+                            first,
+                            end,
+                            n,
+                            x,
+                            v,
+                            C,
+                            mass,
+                            vol,
+                            sigma,
+                            gmp,
+                            nx,
+                            ny,
+                            h,
+                            pad,
+                            dt,
+                            scale,
+                            gmo,
+                            flip,
+                            linear,
+                        )
         else:
             # the whole grid: a box from per-point atomic min/max would contend on 4 addresses
             box[0, 0], box[0, 1], box[0, 2], box[0, 3] = 0, nx, 0, ny
@@ -240,8 +344,20 @@ _P2G_KERNELS: dict = {}  # by (mode, lanes, flip, linear), made on first use
 
 
 @ti.func
-def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
-                      vol: ti.template(), sigma: ti.template(), nx, ny, h, pad, dt):
+def p2g_lanes_records(
+    blk,
+    x: ti.template(),
+    v: ti.template(),
+    C: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+):
     """:func:`scatter_point`'s arithmetic for the LANES points of block ``blk``, each quantity a vector
     over them (one vector load per component): the stencil's base node per axis (as floats) and, per
     node (a, b) of the 3 x 3 stencil, the record (w m v_x, w m v_z, w m) it receives."""
@@ -258,14 +374,29 @@ def p2g_lanes_records(blk, x: ti.template(), v: ti.template(), C: ti.template(),
     q0z = mp * v[blk, 1] - h * (a10 * f0 + a11 * f1)
     cax, caz, cbx, cbz = h * a00, h * a10, h * a01, h * a11
     qa = [(q0x + a * cax, q0z + a * caz) for a in ti.static(range(3))]
-    records = [(w0[a] * w1[b] * (qa[a][0] + b * cbx), w0[a] * w1[b] * (qa[a][1] + b * cbz), w0[a] * w1[b] * mp)
-               for a in ti.static(range(3)) for b in ti.static(range(3))]
+    records = [
+        (w0[a] * w1[b] * (qa[a][0] + b * cbx), w0[a] * w1[b] * (qa[a][1] + b * cbz), w0[a] * w1[b] * mp)
+        for a in ti.static(range(3))
+        for b in ti.static(range(3))
+    ]
     return b0, b1, records
 
 
 @ti.func
-def p2g_lanes_records_flip(blk, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
-                           vol: ti.template(), sigma: ti.template(), nx, ny, h, pad, dt):
+def p2g_lanes_records_flip(
+    blk,
+    x: ti.template(),
+    v: ti.template(),
+    C: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+):
     """:func:`p2g_lanes_records` and, per node (a, b), FLIP's momentum before forces
     w (m_p v_p + m_p C_p (x_i - x_p)) (the records with the affine part m_p C_p alone), from one
     evaluation of the stencil."""
@@ -283,10 +414,20 @@ def p2g_lanes_records_flip(blk, x: ti.template(), v: ti.template(), C: ti.templa
     q0z = mvz - h * (a10 * f0 + a11 * f1)
     o0x = mvx - h * (m00 * f0 + m01 * f1)
     o0z = mvz - h * (m10 * f0 + m11 * f1)
-    records = [(w0[a] * w1[b] * (q0x + h * (a * a00 + b * a01)), w0[a] * w1[b] * (q0z + h * (a * a10 + b * a11)),
-                w0[a] * w1[b] * mp) for a in ti.static(range(3)) for b in ti.static(range(3))]
-    olds = [(w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
-            for a in ti.static(range(3)) for b in ti.static(range(3))]
+    records = [
+        (
+            w0[a] * w1[b] * (q0x + h * (a * a00 + b * a01)),
+            w0[a] * w1[b] * (q0z + h * (a * a10 + b * a11)),
+            w0[a] * w1[b] * mp,
+        )
+        for a in ti.static(range(3))
+        for b in ti.static(range(3))
+    ]
+    olds = [
+        (w0[a] * w1[b] * (o0x + h * (a * m00 + b * m01)), w0[a] * w1[b] * (o0z + h * (a * m10 + b * m11)))
+        for a in ti.static(range(3))
+        for b in ti.static(range(3))
+    ]
     return b0, b1, records, olds
 
 
@@ -309,8 +450,9 @@ def add_block_records(gmp: ti.template(), c, p0, end, b0, b1, records, nx, ny, l
 
 
 @ti.func
-def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b0, b1, records, olds, nx, ny,
-                           lo0, hi0, lo1, hi1):
+def add_block_records_flip(
+    gmp: ti.template(), gmo: ti.template(), c, p0, end, b0, b1, records, olds, nx, ny, lo0, hi0, lo1, hi1
+):
     """:func:`add_block_records`, and FLIP's momenta ``olds`` into copy c of ``gmo`` at the same nodes."""
     for k in ti.static(range(LANES)):
         if p0 + k < end:
@@ -321,8 +463,9 @@ def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b
                     r, rec, old = first + a * ny + b, records[a * 3 + b], olds[a * 3 + b]
                     if ti.static(gmp.element_shape()[0] == 8):  # one record (Grid.flip_in_records)
                         zero = 0.0 * rec[2][k]
-                        gmp[r] = gmp[r] + ti.Vector([rec[0][k], rec[1][k], rec[2][k], zero, old[0][k], old[1][k],
-                                                     zero, zero])
+                        gmp[r] = gmp[r] + ti.Vector(
+                            [rec[0][k], rec[1][k], rec[2][k], zero, old[0][k], old[1][k], zero, zero]
+                        )
                     else:
                         gmp[r] = gmp[r] + make_record(gmp, rec[0][k], rec[1][k], rec[2][k])
                         gmo[r] = gmo[r] + ti.Vector([old[0][k], old[1][k]])
@@ -332,9 +475,26 @@ def add_block_records_flip(gmp: ti.template(), gmo: ti.template(), c, p0, end, b
 
 
 @ti.func
-def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C: ti.template(), mass: ti.template(),
-                        vol: ti.template(), sigma: ti.template(), gmp: ti.template(), nx, ny, h, pad, dt,
-                        gmo: ti.template(), flip: ti.template()):
+def scatter_chunk_lanes(
+    c,
+    first,
+    end,
+    n,
+    x: ti.template(),
+    v: ti.template(),
+    C: ti.template(),
+    mass: ti.template(),
+    vol: ti.template(),
+    sigma: ti.template(),
+    gmp: ti.template(),
+    nx,
+    ny,
+    h,
+    pad,
+    dt,
+    gmo: ti.template(),
+    flip: ti.template(),
+):
     """The points of blocks [first, end) (below n) into grid copy c, a block at a time
     (:func:`p2g_lanes_records`), each point's 9 records still added one after the other in point
     order; returns the node box (i0, i1, j0, j1)."""
@@ -342,8 +502,9 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
     for blk in range(first, end):
         if ti.static(flip):
             b0, b1, records, olds = p2g_lanes_records_flip(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
-            i0, i1, j0, j1 = add_block_records_flip(gmp, gmo, c, blk * LANES, n, b0, b1, records, olds, nx, ny,
-                                                    i0, i1, j0, j1)
+            i0, i1, j0, j1 = add_block_records_flip(
+                gmp, gmo, c, blk * LANES, n, b0, b1, records, olds, nx, ny, i0, i1, j0, j1
+            )
         else:
             b0, b1, records = p2g_lanes_records(blk, x, v, C, mass, vol, sigma, nx, ny, h, pad, dt)
             i0, i1, j0, j1 = add_block_records(gmp, c, blk * LANES, n, b0, b1, records, nx, ny, i0, i1, j0, j1)
@@ -353,8 +514,23 @@ def scatter_chunk_lanes(c, first, end, n, x: ti.template(), v: ti.template(), C:
 def p2g_args(particles, grid, dt: float) -> tuple:
     """Arguments of :func:`p2g_kernel` for these particles and grid."""
     p = particles
-    return (p.x, p.v, p.C, p.mass, p.vol, p.sigma, p.n, grid.mp_parts, grid.box_parts, *grid.shape, grid.h, grid.pad, dt,
-            grid.fixed_scale or 1.0, grid.mo_parts)
+    return (
+        p.x,
+        p.v,
+        p.C,
+        p.mass,
+        p.vol,
+        p.sigma,
+        p.n,
+        grid.mp_parts,
+        grid.box_parts,
+        *grid.shape,
+        grid.h,
+        grid.pad,
+        dt,
+        grid.fixed_scale or 1.0,
+        grid.mo_parts,
+    )
 
 
 @ti.func
@@ -383,8 +559,9 @@ def g2p_point(x, gv: ti.template(), h, pad):
             sa += (a * w[a][0]) * r0
         sb += w[a][0] * rb
     k = 4.0 * inv_h
-    new_C = k * ti.Matrix([[sa[0] - s0[0] * fx[0], sb[0] - s0[0] * fx[1]],
-                           [sa[1] - s0[1] * fx[0], sb[1] - s0[1] * fx[1]]])
+    new_C = k * ti.Matrix(
+        [[sa[0] - s0[0] * fx[0], sb[0] - s0[0] * fx[1]], [sa[1] - s0[1] * fx[0], sb[1] - s0[1] * fx[1]]]
+    )
     return s0, new_C
 
 
@@ -495,8 +672,7 @@ def g2p_lanes(x: ti.template(), blk, gv: ti.template(), h, pad, gv_old: ti.templ
         sbx += w0[a] * rbx
         sbz += w0[a] * rbz
     k = 4.0 * inv_h
-    return (s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1),
-            ox, oz)
+    return (s0x, s0z, k * (sax - s0x * f0), k * (sbx - s0x * f1), k * (saz - s0z * f0), k * (sbz - s0z * f1), ox, oz)
 
 
 @ti.func
@@ -574,15 +750,33 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
     law = stress_update.components
 
     @ti.func
-    def point_after_g2p(p, xp, v_point, v_grid, L, x: ti.template(), v: ti.template(), C: ti.template(),
-                        mass: ti.template(), vol: ti.template(), sigma: ti.template(), s_yy: ti.template(),
-                        eps_p: ti.template(), gdot_p: ti.template(), dt, prm, inv_rho_floor):
+    def point_after_g2p(
+        p,
+        xp,
+        v_point,
+        v_grid,
+        L,
+        x: ti.template(),
+        v: ti.template(),
+        C: ti.template(),
+        mass: ti.template(),
+        vol: ti.template(),
+        sigma: ti.template(),
+        s_yy: ti.template(),
+        eps_p: ti.template(),
+        gdot_p: ti.template(),
+        dt,
+        prm,
+        inv_rho_floor,
+    ):
         """Point p's new velocity v_point, C_p = L, position moved with the grid's v_grid, density and stress."""
         set_vec2(v, p, v_point)
         set_mat2(C, p, L)
         set_vec2(x, p, xp + dt * v_grid)
         m = get_scalar(mass, p)
-        vp = ti.min(get_scalar(vol, p) * exp_near_zero(dt * L.trace()), m * inv_rho_floor)  # v_p *= exp(dt tr D), <= m_p / rho_floor
+        vp = ti.min(
+            get_scalar(vol, p) * exp_near_zero(dt * L.trace()), m * inv_rho_floor
+        )  # v_p *= exp(dt tr D), <= m_p / rho_floor
         set_scalar(vol, p, vp)
         sig, syy, dgamma = stress_update(get_sym2(sigma, p), get_scalar(s_yy, p), L, m / vp, dt, prm)
         set_sym2(sigma, p, sig)
@@ -591,11 +785,23 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
 
     @ti.kernel
     def g2p_density_stress(
-        x: ti.types.ndarray(), v: ti.types.ndarray(), C: ti.types.ndarray(),
-        mass: ti.types.ndarray(), vol: ti.types.ndarray(), sigma: ti.types.ndarray(),
-        s_yy: ti.types.ndarray(), eps_p: ti.types.ndarray(), gdot_p: ti.types.ndarray(),
-        gv: ti.types.ndarray(), h: float, pad: int, dt: float, prm: ti.types.vector(n_params, float), inv_rho_floor: float,
-        gv_old: ti.types.ndarray(), share: float,
+        x: ti.types.ndarray(),
+        v: ti.types.ndarray(),
+        C: ti.types.ndarray(),
+        mass: ti.types.ndarray(),
+        vol: ti.types.ndarray(),
+        sigma: ti.types.ndarray(),
+        s_yy: ti.types.ndarray(),
+        eps_p: ti.types.ndarray(),
+        gdot_p: ti.types.ndarray(),
+        gv: ti.types.ndarray(),
+        h: float,
+        pad: int,
+        dt: float,
+        prm: ti.types.vector(n_params, float),
+        inv_rho_floor: float,
+        gv_old: ti.types.ndarray(),
+        share: float,
     ):
         if ti.static(not lanes):
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
@@ -606,8 +812,9 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
                 if ti.static(flip):  # v_p <- share (v_p + sum w (v_i - v_old_i)) + (1 - share) sum w v_i
                     v_flip = get_vec2(v, p) + new_v - interpolate_point(xp, gv_old, h, pad, linear)
                     v_point = share * v_flip + (1.0 - share) * new_v
-                point_after_g2p(p, xp, v_point, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm,
-                                inv_rho_floor)
+                point_after_g2p(
+                    p, xp, v_point, new_v, L, x, v, C, mass, vol, sigma, s_yy, eps_p, gdot_p, dt, prm, inv_rho_floor
+                )
         else:
             ti.loop_config(serialize=backend.SERIAL_LOOPS)
             for blk in range(x.shape[0]):
@@ -615,8 +822,9 @@ def g2p_kernel(stress_update, n_params: int = 4, lanes: bool = False, flip: bool
                 m = mass[blk, 0]
                 # v_p *= exp(dt tr D), <= m_p / rho_floor
                 vp = ti.min(vol[blk, 0] * exp_near_zero_lanes(dt * (l00 + l11)), m * inv_rho_floor)
-                t_xx, t_zz, t_xz, t_yy, dgamma = law(sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0],
-                                                     l00, l01, l10, l11, m / vp, dt, prm)
+                t_xx, t_zz, t_xz, t_yy, dgamma = law(
+                    sigma[blk, XX], sigma[blk, ZZ], sigma[blk, XZ], s_yy[blk, 0], l00, l01, l10, l11, m / vp, dt, prm
+                )
                 if ti.static(flip):  # v_p <- sum w v_i + share (v_p - sum w v_old_i)
                     v[blk, 0], v[blk, 1] = v0 + share * (v[blk, 0] - o0), v1 + share * (v[blk, 1] - o1)
                 else:

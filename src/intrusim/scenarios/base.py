@@ -17,12 +17,12 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from intrusim._checks import InputError
 from intrusim.errors import validation_message
-from intrusim.validation import reject_bool_numbers
 from intrusim.forces import ModelKind, ResistiveForceModel, make_force_model
 from intrusim.geometry import Shape
 from intrusim.laws.drft import free_surface_law
 from intrusim.laws.rft import load_coefficients
 from intrusim.params import GRAVITY
+from intrusim.validation import reject_bool_numbers
 
 ALL_KINDS: tuple[str, ...] = ("rft", "drft-inertial", "drft")
 
@@ -179,6 +179,15 @@ class ModelKindsMixin(Config):
         psi = free_surface_law(fm.psi_slope, fm.psi_offset)
         coef = None if fm.rft_coefficients is None else load_coefficients(fm.rft_coefficients)
         return make_force_model(
-            kind, self.rft_shape(), xi=fm.xi, rho=fm.rho, lam=lam_v, structural=fm.structural, psi=psi, coef=coef,
-            bulldozing=fm.bulldozing, mu=fm.internal_friction, gravity=getattr(self, "gravity", GRAVITY),
+            kind,
+            self.rft_shape(),
+            xi=fm.xi,
+            rho=fm.rho,
+            lam=lam_v,
+            structural=fm.structural,
+            psi=psi,
+            coef=coef,
+            bulldozing=fm.bulldozing,
+            mu=fm.internal_friction,
+            gravity=getattr(self, "gravity", GRAVITY),
         )

@@ -214,8 +214,17 @@ def forward_force(scenario: LocomotorScenario, settings: MPMSettings) -> float:
 def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: float, out_dir: str | Path | None = None):
     """The :class:`~intrusim.mpm.config.MPMConfig` of ``scenario`` spinning forward at ``omega_rpm``."""
     from intrusim.mpm.config import (
-        BackendConfig, BedConfig, CoupledMotion, DomainConfig, IntruderConfig, MaterialConfig, MPMConfig,
-        OutputConfig, Rectangle, TimeConfig, TransferConfig,
+        BackendConfig,
+        BedConfig,
+        CoupledMotion,
+        DomainConfig,
+        IntruderConfig,
+        MaterialConfig,
+        MPMConfig,
+        OutputConfig,
+        Rectangle,
+        TimeConfig,
+        TransferConfig,
     )  # fmt: skip
 
     w = finite("omega_rpm", omega_rpm)
@@ -292,7 +301,9 @@ def read_progress(run_dir: Path) -> tuple[list[tuple[float, float]], float]:
     return [(float(a), float(b)) for a, b in info.get("drops", [])], float(info.get("wall_time", 0.0))
 
 
-def resume_run(solver: Any, run_dir: Path | None, keep_fields: int) -> tuple[list[tuple[float, float]], list[Path], float]:
+def resume_run(
+    solver: Any, run_dir: Path | None, keep_fields: int
+) -> tuple[list[tuple[float, float]], list[Path], float]:
     """Continue an interrupted run from its folder: (drops, kept field files, wall time so far).
 
     The solver state comes from its checkpoint (:meth:`Solver.continue_in_run_dir`: a folder
@@ -348,16 +359,25 @@ def run_mpm_steady(
     if s.treadmill is not None:  # the body's size: the settings' own validator does not know it
         trigger, target = s.treadmill
         if trigger + radius > s.domain[0] - s.wall_margin:
-            raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_trigger {trigger:g} m would reach "
-                             f"the wall margin; use a smaller x_trigger or a longer domain")
+            raise InputError(
+                f"treadmill: the body (radius {radius:.3g} m) at x_trigger {trigger:g} m would reach "
+                f"the wall margin; use a smaller x_trigger or a longer domain"
+            )
         if target - radius < s.h:
-            raise InputError(f"treadmill: the body (radius {radius:.3g} m) at x_target {target:g} m would touch the left wall")
+            raise InputError(
+                f"treadmill: the body (radius {radius:.3g} m) at x_target {target:g} m would touch the left wall"
+            )
     step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
     # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0
     if run_dir is not None:
         run_dir.mkdir(parents=True, exist_ok=True)
-        info = {"body": scenario.body, "scenario": scenario.model_dump(mode="json"), "settings": s.model_dump(mode="json"), "omega_rpm": omega_rpm}
+        info = {
+            "body": scenario.body,
+            "scenario": scenario.model_dump(mode="json"),
+            "settings": s.model_dump(mode="json"),
+            "omega_rpm": omega_rpm,
+        }
         atomic_write_bytes(run_dir / "locomotion.json", json.dumps(info, indent=1).encode())
 
     def sample() -> None:
@@ -390,7 +410,9 @@ def run_mpm_steady(
     at_chunk_end = solver.step_count > 0 and solver.step_count == int(round(t_next / solver.dt))
     if at_chunk_end and solver.t >= t_avg and not any(abs(t - solver.t) < 0.5 * solver.dt for t, _ in drops):
         sample()  # killed between the checkpoint and the progress file of this chunk
-    treadmill_shift(solver, body, s.treadmill)  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
+    treadmill_shift(
+        solver, body, s.treadmill
+    )  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
     wall0 = time.perf_counter() - wall_before
     near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
@@ -398,7 +420,15 @@ def run_mpm_steady(
         solver.run(t_end=t_next, checkpoint_end=False)  # checkpoints on schedule; the end state below
         st = body.state
         if progress is not None:
-            progress({"t": solver.t, "x": st.x + solver.x_offset, "z": st.z, "vx": st.vx, "wall": time.perf_counter() - wall0})
+            progress(
+                {
+                    "t": solver.t,
+                    "x": st.x + solver.x_offset,
+                    "z": st.z,
+                    "vx": st.vx,
+                    "wall": time.perf_counter() - wall0,
+                }
+            )
         if run_dir is not None and s.frames_every and solver.t + 1e-9 >= next_frame:
             next_frame += s.frames_every
             _save_frame(run_dir / "frames", solver, outline)
@@ -412,8 +442,14 @@ def run_mpm_steady(
     wall = time.perf_counter() - wall0
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
-    meta = {"dt": solver.dt, "particles": solver.particles.n, "omega_rpm": omega_rpm, "fields": [str(p) for p in kept],
-            "x_offset": solver.x_offset, "dropped_points": solver.dropped["points"]}
+    meta = {
+        "dt": solver.dt,
+        "particles": solver.particles.n,
+        "omega_rpm": omega_rpm,
+        "fields": [str(p) for p in kept],
+        "x_offset": solver.x_offset,
+        "dropped_points": solver.dropped["points"],
+    }
     return steady_from_series(
         series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta
     )
@@ -465,12 +501,17 @@ def fields_drop(path: str | Path, bed_depth: float, rho_c: float, gravity: float
     d = np.load(path)
     x, z, th = (float(v) for v in d["body"][:3])
     poly = posed_polygon(d["outline"], x, z, th)
-    dh = rear_contact_drop(d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=h, pressure_tol=0.5 * rho_c * gravity * h)
+    dh = rear_contact_drop(
+        d["x"], d["pressure"], poly, (x, z), 1.0, bed_depth, band=h, pressure_tol=0.5 * rho_c * gravity * h
+    )
     return float(d["t"]), dh
 
 
 def summarise_run(
-    run_dir: str | Path, settings: MPMSettings | None = None, body: str = "wheel", t_end: float | None = None,
+    run_dir: str | Path,
+    settings: MPMSettings | None = None,
+    body: str = "wheel",
+    t_end: float | None = None,
     t_start: float | None = None,
 ) -> MPMSteadyState:
     """Recompute the steady state of a finished (or interrupted) run folder.
@@ -506,7 +547,9 @@ def summarise_run(
     if t_start is not None and (run_dir / PROGRESS_FILE).exists():
         drops = [d for d in read_progress(run_dir)[0] if t_end is None or d[0] <= t_end + 1e-9]
     else:
-        drops = [fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))]
+        drops = [
+            fields_drop(p, settings.bed_depth, settings.rho_c, gravity, h) for p in sorted(run_dir.glob("fields_*.npz"))
+        ]
     t_avg = settings.ramp_time + settings.settle_time if t_start is None else float(t_start)
     return steady_from_series(
         series, outline, settings.bed_depth, t_avg, body == "runner", drops, meta={"run_dir": str(run_dir)},
@@ -516,7 +559,9 @@ def summarise_run(
 def write_result(run_dir: str | Path, st: MPMSteadyState) -> Path:
     """Mark a run folder finished: ``result.json`` holds the steady-state summary."""
     path = Path(run_dir) / "result.json"
-    atomic_write_bytes(path, json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str).encode())
+    atomic_write_bytes(
+        path, json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str).encode()
+    )
     return path
 
 
