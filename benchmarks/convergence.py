@@ -122,7 +122,7 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
         [(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
         [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)],
     ]
-    extra = {} if band is None else {"contact_band_cells": band}  # the static obstacles' band
+    extra = {} if band is None else {"contact": "band", "contact_band_cells": band}  # the static obstacles' band
     return MPMConfig(
         domain=DomainConfig(size=(lx, lz), cells=(round(lx / h), round(lz / h))),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
@@ -173,7 +173,7 @@ def wheel(rpm: float):
             cpu_threads=threads,
             cfl=cfl,
             flip=flip,
-            **({} if BAND is None else {"contact_band_cells": BAND}),
+            **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
             **({} if PIC_TIME is None else {"pic_time": PIC_TIME}),
         )
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
@@ -204,7 +204,7 @@ def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, f
                 cells=(round(0.30 / h), round(0.15 / h)),
                 cfl=cfl,
                 flip=flip,
-                **({} if BAND is None else {"contact_band_cells": BAND}),
+                **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
             )
             rows = Solver(case.config(**backend(threads))).run()
             depth.append(d)
@@ -312,9 +312,10 @@ def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
 
 
 TITLES = {
-    "default": "The default transfer (FLIP with a PIC share per step exp(-dt / tau)) and contact band",
-    "flip=0": "APIC (`transfer.flip = 0`, the former default), default contact band",
-    "flip=1": "FLIP (`transfer.flip = 1`), default contact band",
+    "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), contact at the body's surface",
+    "default|band=1": "The default transfer with the 1-cell contact band (`--band 1`, the former default contact)",
+    "flip=0|band=1": "APIC (`transfer.flip = 0`) with the 1-cell contact band: the former defaults",
+    "flip=1|band=1": "FLIP (`transfer.flip = 1`) with the 1-cell contact band",
 }
 
 
@@ -359,7 +360,10 @@ def main() -> None:
         "--flip", type=float, default=None, help="a fixed FLIP share per step (0: APIC) instead of the default"
     )
     ap.add_argument(
-        "--band", type=float, default=None, help="contact_band_cells of every body and obstacle (default: the config's)"
+        "--band",
+        type=float,
+        default=None,
+        help="the band contact with this contact_band_cells for every body and obstacle (default: the contact at the surface)",
     )
     ap.add_argument(
         "--pic-time",
