@@ -24,10 +24,10 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Literal
+from typing import Any, Callable, Literal, get_args
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
@@ -124,6 +124,16 @@ class MPMSettings(Config):
     @property
     def h(self) -> float:
         return self.domain[0] / self.cells[0]
+
+    @field_validator("arch")
+    @classmethod
+    def _known_arch(cls, arch: str) -> str:
+        from intrusim.mpm.config import BackendConfig
+
+        names = get_args(BackendConfig.model_fields["arch"].annotation)
+        if arch not in names:
+            raise ValueError(f"must be one of {', '.join(names)}")
+        return arch
 
     @model_validator(mode="after")
     def _treadmill_in_box(self) -> "MPMSettings":
