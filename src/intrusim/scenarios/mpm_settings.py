@@ -162,13 +162,19 @@ def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
 def _derived(data: dict[str, Any], key: str, value: Any) -> None:
     """Apply one derived key (:data:`DERIVED`) to the settings' dict."""
     domain, cells = data["domain"], data["cells"]
+
+    def count(length: float, h: float) -> int:  # cells of one side
+        n = length / h
+        if not math.isfinite(n):
+            raise InputError(f"{key} = {value!r} gives a non-finite number of cells ({length:g} m / {h:g} m)")
+        return max(1, round(n))
+
     if key == "cell_size":
         h = _number(key, value, "m")
-        data["cells"] = [max(1, round(d / h)) for d in domain]
+        data["cells"] = [count(d, h) for d in domain]
     elif key == "length":
         length = _number(key, value, "m")
-        h = domain[0] / cells[0]
-        data["domain"], data["cells"] = [length, domain[1]], [max(1, round(length / h)), cells[1]]
+        data["domain"], data["cells"] = [length, domain[1]], [count(length, domain[0] / cells[0]), cells[1]]
     elif key == "contact_band":
         data["contact"], data["contact_band_cells"] = "band", _number(key, value, "cells", positive=False)
     elif key == "mu_i_diameter":
