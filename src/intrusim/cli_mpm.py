@@ -232,7 +232,9 @@ def collect(
     path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
     from intrusim.scenarios.mpm_settings import write_record
 
-    write_record(path, res.scenario, {float(info["omega_rpm"]): info["settings"] for info in infos.values()})
+    recorded = {float(info["omega_rpm"]): info["settings"] for info in infos.values() if "settings" in info}
+    if recorded:  # the runs' settings, which `reproduce` checks against the case a figure asks for
+        write_record(path, res.scenario, recorded)
     typer.echo(res.table())
     typer.echo(f"wrote {path}")
 

@@ -229,6 +229,10 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     res = SweepResult.from_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
     done = json.loads((run_dir / "result.json").read_text())
     assert res.omega_rpm.tolist() == [60.0] and res.column("velocity")[0] == pytest.approx(done["velocity"])
+    from intrusim.scenarios.mpm_settings import read_record
+
+    recorded = json.loads((run_dir / "locomotion.json").read_text())["settings"]
+    assert read_record(tmp_path / "grousered_wheel_mpm_sweep.csv") == {60.0: recorded}  # what reproduce checks
     assert res.column("window_start")[0] == pytest.approx(done["window"][0])
     # a later window (a run that settled late): averages from --from on, dh from the run's own per-chunk drops
     late = tmp_path / "late.csv"
