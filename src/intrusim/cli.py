@@ -24,7 +24,7 @@ app = typer.Typer(
 
 def _show_version(value: bool) -> None:
     if value:
-        typer.echo(__version__)
+        typer.echo(f"intrusim {__version__}")
         raise typer.Exit()
 
 
@@ -46,7 +46,7 @@ def main(
 @app.command()
 def version() -> None:
     """Print the package version."""
-    typer.echo(__version__)
+    typer.echo(f"intrusim {__version__}")
 
 
 @app.command()
@@ -219,24 +219,40 @@ def reproduce(
         None,
         help="File name stem instead of the figure's (e.g. fig7bc_band0: fig7bc_band0.png, fig7bc_band0_vs_mpm.csv).",
     ),
+    settings: Optional[Path] = typer.Option(
+        None, "--settings", help="MPM settings TOML file of the runs the figure draws (as `mpm sweep --settings`)."
+    ),
+    sets: list[str] = typer.Option(
+        [],
+        "--set",
+        help="KEY=VALUE, repeatable: an MPM setting of the runs the figure draws (as `mpm sweep --set`, e.g. contact_band=0).",
+    ),
 ) -> None:
     """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
 
     RFT/DRFT: fig4b, fig5ab, fig6a, fig7bc, figs1. MPM (runs the continuum solver, or reuses
     finished run folders under --runs): fig3ab, fig3cd, fig5c, fig5d, fig6a-mpm, figs3b, and --mpm on the others.
+    The MPM runs are those of the quick or paper settings with --settings and --set applied; a
+    run folder or sweep CSV under --runs recorded with other settings is refused.
     """
     from intrusim.figures import FIGURES
+    from intrusim.figures.mpm import case_settings
+    from intrusim.scenarios.mpm_settings import check_keys, parse_assignment, read_settings_file
 
+    items = [] if settings is None else read_settings_file(settings)
+    items += [parse_assignment(s) for s in sets]
+    check_keys(items)  # an unknown key is refused before any figure; the values with each scenario's settings
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
     if name is not None and (not name or Path(name).name != name):
         _fail(InputError(f"--name must be a plain file name stem, got {name!r}"))
-    if name is None:
-        paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
-    else:
-        paths = _renamed_figure(
-            FIGURES[figure], figure.replace("-", "_"), name, out, quick=quick, parallel=parallel, runs=runs, mpm=mpm
-        )
+    with case_settings(items):
+        if name is None:
+            paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
+        else:
+            paths = _renamed_figure(
+                FIGURES[figure], figure.replace("-", "_"), name, out, quick=quick, parallel=parallel, runs=runs, mpm=mpm
+            )
     for p in paths:
         typer.echo(str(p))
 

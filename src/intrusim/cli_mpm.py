@@ -24,211 +24,63 @@ def _finite(name: str, value: float | None) -> float | None:
     return value
 
 
-def _validated(model, **update):
-    """``model`` with ``update``, validated as the files are (a flag's bad value names the setting)."""
-    from pydantic import ValidationError
-
-    try:
-        return model.validated_copy(**update)
-    except ValidationError as err:
-        raise InputError(validation_message(err)) from None
+SETTINGS_HELP = (
+    "Settings TOML file: keys of MPMSettings (docs/mpm.md), applied over the base settings "
+    "(quick or paper, by the scenario's body) and under --set."
+)
+SET_HELP = (
+    "KEY=VALUE, repeatable, applied in order after --settings: a setting (cell_size, length, t_max, "
+    "contact_band, flip, shape, treadmill=[X_TRIGGER, X_TARGET], drop_escaped, arch, frames_every, "
+    "max_steps, mu_i_diameter, fluidity_diameter, or any MPMSettings field, dotted for its parts: "
+    "mu_i.grain_diameter=1e-3). VALUE is read as TOML, else as a bare string (docs/mpm.md)."
+)
 
 
 def _case(
     scenario: str,
     quick: bool,
-    out: Path | None,
-    frames_every: float | None,
-    threads: int | None,
-    cell_size: float | None = None,
-    contact_band: float | None = None,
-    length: float | None = None,
-    t_max: float | None = None,
-    mu_i_diameter: float | None = None,
-    fluidity_diameter: float | None = None,
-    treadmill: str | None = None,
-    arch: str | None = None,
-    flip: float | None = None,
-    shape: str | None = None,
-    drop_escaped: bool = False,
-    max_steps: int | None = None,
+    out: Path | None = None,
+    settings: Path | None = None,
+    sets: list[str] | tuple[str, ...] = (),
+    threads: int | None = None,
 ):
-    """The MPM locomotion case of the command's flags: every flag goes through the settings'
-    validation (MPMSettings, as a file's), so a bad value is refused before any compute."""
-    from intrusim.mpm.config import SHAPES, FluidityConfig, MuIConfig
+    """The MPM locomotion case of a command: the base settings of the scenario's body (quick or
+    paper), then the ``--settings`` file, then each ``--set`` in order, then ``threads``; all
+    validated as one (MPMSettings), so a bad key or value is refused before any compute."""
     from intrusim.scenarios import load_scenario
-    from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings
+    from intrusim.scenarios.mpm_locomotion import MPMLocomotion
+    from intrusim.scenarios.mpm_settings import case_settings
 
-    for name, value in (
-        ("frames_every", frames_every),
-        ("cell_size", cell_size),
-        ("contact_band", contact_band),
-        ("length", length),
-        ("t_max", t_max),
-        ("mu_i_diameter", mu_i_diameter),
-        ("fluidity_diameter", fluidity_diameter),
-        ("flip", flip),
-    ):
-        _finite(name, value)
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
-    settings = quick_settings(sc.body) if quick else paper_settings(sc.body)
-    update: dict = {"frames_every": frames_every, "cpu_threads": threads}
-    if max_steps is not None:
-        update["max_steps"] = max_steps
-    if arch is not None:
-        from intrusim.mpm.backend import ARCHES
-
-        if arch not in ARCHES:
-            raise InputError(f"arch must be one of {', '.join(ARCHES)}, got {arch!r}")
-        update["arch"] = arch
-    domain, cells = settings.domain, settings.cells
-    if length is not None:  # same cells, a shorter or longer bed
-        if not length > settings.start_x + settings.wall_margin:
-            raise InputError(
-                f"length must exceed start_x + wall_margin ({settings.start_x + settings.wall_margin:g} m), got {length!r}"
-            )
-        domain, cells = (float(length), domain[1]), (max(1, round(length / settings.h)), cells[1])
-    if cell_size is not None:
-        if not cell_size > 0:
-            raise InputError(f"cell_size must be > 0 m, got {cell_size!r}")
-        cells = tuple(max(1, round(d / cell_size)) for d in domain)
-    update.update(domain=domain, cells=cells)
-    if contact_band is not None:
-        if not contact_band >= 0:
-            raise InputError(f"contact_band must be >= 0 cells, got {contact_band!r}")
-        update["contact"] = "band"
-        update["contact_band_cells"] = float(contact_band)
-    if flip is not None:
-        if not 0.0 <= flip <= 1.0:
-            raise InputError(f"flip must be in [0, 1], got {flip!r}")
-        update["flip"] = float(flip)
-    if shape is not None:
-        if shape not in SHAPES:
-            raise InputError(f"shape must be {' or '.join(SHAPES)}, got {shape!r}")
-        update["shape"] = shape
-    if drop_escaped:
-        update["drop_escaped"] = True
-    if t_max is not None:
-        if not t_max > settings.ramp_time + settings.settle_time:
-            raise InputError(
-                f"t_max must exceed ramp_time + settle_time ({settings.ramp_time + settings.settle_time:g} s), got {t_max!r}"
-            )
-        update["t_max"] = float(t_max)
-    if mu_i_diameter is not None:
-        if not mu_i_diameter > 0:
-            raise InputError(f"mu_i_diameter must be > 0 m, got {mu_i_diameter!r}")
-        update["mu_i"] = MuIConfig(grain_diameter=float(mu_i_diameter)).model_dump()
-    if fluidity_diameter is not None:
-        if not fluidity_diameter > 0:
-            raise InputError(f"fluidity_diameter must be > 0 m, got {fluidity_diameter!r}")
-        if mu_i_diameter is not None:
-            raise InputError("give one of mu_i_diameter and fluidity_diameter, not both")
-        update["fluidity"] = FluidityConfig(grain_diameter=float(fluidity_diameter)).model_dump()
-    if treadmill is not None:
-        x = _numbers(treadmill, "treadmill")
-        if len(x) != 2:
-            raise InputError(f"treadmill takes X_TRIGGER,X_TARGET (two numbers, m), got {treadmill!r}")
-        try:
-            settings = _validated(settings, **update, treadmill=tuple(x))
-        except InputError as err:
-            raise InputError(f"bad treadmill: {err}") from None
-    else:
-        settings = _validated(settings, **update)
-    return MPMLocomotion(scenario=sc, mpm=settings, out_root=None if out is None else str(out))
+    s = case_settings(sc.body, quick, settings, sets or ())
+    if threads is not None:
+        if threads < 1:
+            raise InputError(f"--threads must be >= 1, got {threads}")
+        s = s.validated_copy(cpu_threads=threads)
+    return MPMLocomotion(scenario=sc, mpm=s, out_root=None if out is None else str(out))
 
 
-def _numbers(text: str, what: str) -> list[float]:
-    try:
-        out = [float(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
-    if not out or not all(math.isfinite(x) for x in out):
-        raise InputError(f"{what} must be comma-separated finite numbers, got {text!r}")
-    return out
-
-
-def _rpms(text: str) -> list[float]:
-    return _numbers(text, "omega list")
+SCENARIO_HELP = (
+    f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."
+)
 
 
 @mpm_app.command("steady")
 def steady(
-    scenario: str = typer.Option(
-        "wheel",
-        help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body).",
-    ),
+    scenario: str = typer.Option("wheel", help=SCENARIO_HELP),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (forward rolling)."),
     quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
-    out: Path = typer.Option(None, help="Run folder (time series, config, checkpoints, fields)."),
-    frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
-    cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(
+    out: Path = typer.Option(
         None,
-        help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md).",
+        help="Folder of the run folder (time series, config, checkpoints, fields). A larger t_max on a finished run's folder extends that run from its checkpoint.",
     ),
-    length: float = typer.Option(
-        None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."
-    ),
-    t_max: float = typer.Option(
-        None,
-        help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint.",
-    ),
+    settings: Path = typer.Option(None, "--settings", help=SETTINGS_HELP),
+    sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     threads: int = typer.Option(None, help="CPU threads (default: all cores)."),
-    mu_i_diameter: float = typer.Option(
-        None,
-        help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction).",
-    ),
-    fluidity_diameter: float = typer.Option(
-        None,
-        help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law).",
-    ),
-    treadmill: str = typer.Option(
-        None,
-        help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md).",
-    ),
-    arch: str = typer.Option(
-        None,
-        help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning.",
-    ),
-    flip: float = typer.Option(
-        None,
-        help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code).",
-    ),
-    shape: str = typer.Option(
-        None,
-        help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md).",
-    ),
-    drop_escaped: bool = typer.Option(
-        False,
-        help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far).",
-    ),
-    max_steps: int = typer.Option(
-        None,
-        "--max-steps",
-        help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
-    ),
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(
-            scenario,
-            quick,
-            out,
-            frames_every,
-            threads,
-            cell_size,
-            contact_band,
-            length,
-            t_max,
-            mu_i_diameter,
-            fluidity_diameter,
-            treadmill,
-            arch,
-            flip,
-            shape,
-            drop_escaped,
-            max_steps,
-        )
+        case = _case(scenario, quick, out, settings, sets, threads)
         _finite("omega_rpm", omega_rpm)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
@@ -264,72 +116,30 @@ def steady(
 
 @mpm_app.command("sweep")
 def sweep(
-    scenario: str = typer.Option(
-        "wheel",
-        help=f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body).",
+    scenario: str = typer.Option("wheel", help=SCENARIO_HELP),
+    omega_rpm: str = typer.Option(
+        "10,20,30,40,50,60,70,80,90", help="RPM list 'a,b,c' or range 'start:stop:step' (as `intrusim sweep`)."
     ),
-    omega_rpm: str = typer.Option("10,20,30,40,50,60,70,80,90", help="Comma-separated RPM list."),
     quick: bool = typer.Option(False, help="Coarse grid, short runs."),
     out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),
+    settings: Path = typer.Option(None, "--settings", help=SETTINGS_HELP),
+    sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     workers: int = typer.Option(2, help="Dask worker processes (each runs Taichi on cores/workers threads)."),
     scheduler: str = typer.Option(None, help="Address of an existing Dask scheduler (default: a local cluster)."),
     serial: bool = typer.Option(False, help="Run the points one after another in this process."),
-    frames_every: float = typer.Option(None, help="Save movie frames every this many seconds."),
-    cell_size: float = typer.Option(None, help="Grid cell size, m (default: 5 mm, or 2 cm with --quick)."),
-    contact_band: float = typer.Option(
-        None,
-        help="Contact at the grid nodes this close outside the body, cells, in place of the default contact at the body's surface (docs/mpm.md).",
-    ),
-    length: float = typer.Option(
-        None, help="Bed length, m (default: 1 m wheel, 4 m runner; a slow runner needs less)."
-    ),
-    t_max: float = typer.Option(
-        None,
-        help="Longest physical time, s (default: 4 s wheel, 2.5 s runner). A larger value on a finished run's --out folder extends that run from its checkpoint.",
-    ),
-    mu_i_diameter: float = typer.Option(
-        None,
-        help="Grain diameter d, m: friction mu(I) = mu_s + 0.26 I / (0.279 + I), I = gdot d sqrt(rho_s / P) (not the paper's law; default: the paper's rate-independent friction).",
-    ),
-    fluidity_diameter: float = typer.Option(
-        None,
-        help="Grain diameter d, m: nonlocal granular fluidity (Henann & Kamrin 2013; A 0.48, b 0.9375) in place of the Drucker-Prager return (not the paper's law).",
-    ),
-    treadmill: str = typer.Option(
-        None,
-        help="X_TRIGGER,X_TARGET, m: a moving window. Each time the body centre passes X_TRIGGER the scene moves back to put it at X_TARGET, the rut leaving on the left and fresh bed coming in on the right, so a run lasts t_max in a short bed (docs/mpm.md).",
-    ),
-    arch: str = typer.Option(
-        None,
-        help="Taichi backend: cpu (default), cuda, vulkan, metal or gpu (any GPU). A missing GPU falls back to the CPU with a warning.",
-    ),
-    flip: float = typer.Option(
-        None,
-        help="FLIP's share of the points' velocity update per step, 0-1 (default: FLIP with a PIC share that falls with dt, docs/mpm.md; 0: APIC, whose damping grows as the time step falls; 1: FLIP, as the paper's group's code).",
-    ),
-    shape: str = typer.Option(
-        None,
-        help="Shape functions of the transfers: quadratic (default) or linear (the cell's bilinear functions, as the paper's group's code; use with --flip 1; docs/mpm.md).",
-    ),
-    drop_escaped: bool = typer.Option(
-        False,
-        help="A point thrown out of the box leaves the run (its mass is reported) instead of stopping it with a diagnosis (FLIP can throw single points far).",
-    ),
-    max_steps: int = typer.Option(
-        None,
-        "--max-steps",
-        help="Most time steps a run may take (default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
-    ),
     oversubscribe: bool = typer.Option(
         False, "--oversubscribe", help="Allow more --workers than this machine's cores."
     ),
 ) -> None:
-    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv and prints a table.
+    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv (and the runs' settings beside
+    it, SCENARIO_mpm_sweep.settings.json) and prints a table.
     Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
     from intrusim.analysis.sweep import sweep_omega
+    from intrusim.cli import _parse_rpm
     from intrusim.mpm.io import safe_child
+    from intrusim.scenarios.mpm_settings import write_record
 
     try:
         cores = os.cpu_count() or 1
@@ -341,26 +151,8 @@ def sweep(
                 "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)"
             )
         threads = max(1, cores // workers) if not serial else None
-        case = _case(
-            scenario,
-            quick,
-            out,
-            frames_every,
-            threads,
-            cell_size,
-            contact_band,
-            length,
-            t_max,
-            mu_i_diameter,
-            fluidity_diameter,
-            treadmill,
-            arch,
-            flip,
-            shape,
-            drop_escaped,
-            max_steps,
-        )
-        omegas = _rpms(omega_rpm)
+        case = _case(scenario, quick, out, settings, sets, threads)
+        omegas = _parse_rpm(omega_rpm)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # the run folders' names, checked before any compute
             case.run_dir(w)
@@ -370,6 +162,7 @@ def sweep(
         raise typer.Exit(2) from None
     res = sweep_omega(case, "mpm", omegas, parallel=not serial, scheduler_address=scheduler, n_workers=workers)
     path = res.to_csv(csv_path)
+    write_record(csv_path, case.scenario.name, {w: case.mpm for w in omegas})
     typer.echo(res.table())
     typer.echo(f"wrote {path}")
     if res.errors:
@@ -437,13 +230,18 @@ def collect(
         raise typer.Exit(2) from None
     res = SweepResult(names.pop(), "mpm", None, records, meta={"source": str(folder)})
     path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
+    from intrusim.scenarios.mpm_settings import write_record
+
+    recorded = {float(info["omega_rpm"]): info["settings"] for info in infos.values() if "settings" in info}
+    if recorded:  # the runs' settings, which `reproduce` checks against the case a figure asks for
+        write_record(path, res.scenario, recorded)
     typer.echo(res.table())
     typer.echo(f"wrote {path}")
 
 
 @mpm_app.command("movie")
 def movie(
-    run_dir: Path = typer.Argument(..., help="Run folder holding frames/ (run with --frames-every)."),
+    run_dir: Path = typer.Argument(..., help="Run folder holding frames/ (run with --set frames_every=SECONDS)."),
     field: str = typer.Option("gdot_p", help="gdot_p, speed or eps_p."),
     out: Path = typer.Option(None, help="MP4 path (default RUN_DIR/FIELD.mp4)."),
     fps: float = typer.Option(20.0, help="Frames per second."),
@@ -520,6 +318,7 @@ def run(
         "--max-steps",
         help="Most time steps the run may take (overrides time.max_steps, default 2e7): a run estimated to take more (t_end / dt) is refused before it starts.",
     ),
+    threads: int = typer.Option(None, help="CPU threads (overrides backend.cpu_threads; default: all cores)."),
 ) -> None:
     """Run an MPM simulation from a configuration file (validated before any compute).
 
@@ -540,6 +339,8 @@ def run(
             data = {**data, "output": {**data.get("output", {}), "directory": str(out)}}
         if max_steps is not None:
             data = {**data, "time": {**data.get("time", {}), "max_steps": max_steps}}
+        if threads is not None:
+            data = {**data, "backend": {**data.get("backend", {}), "cpu_threads": threads}}
         cfg = MPMConfig.model_validate(data)
     except UnicodeDecodeError:
         raise InputError(f"invalid configuration {config}: not a text (TOML) file") from None
@@ -574,7 +375,7 @@ def resume(
     if (run_dir / "locomotion.json").exists():  # its result.json, progress.json and fields are kept by `mpm steady`
         raise InputError(
             f"{run_dir} is an `mpm steady` / `mpm sweep` run: go on with the same command and a larger "
-            "--t-max on its --out folder, which keeps its result consistent"
+            "t_max (--set t_max=SECONDS) on its --out folder, which keeps its result consistent"
         )
     if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"--t-end must be a finite time > 0 s, got {t_end!r}")

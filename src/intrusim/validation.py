@@ -128,5 +128,5 @@ def check_run_size(cfg: Any, dt: float) -> None:
             f"time.t_end: {cfg.time.t_end:g} s at dt = {dt:.3g} s is {steps:.3g} steps, more than "
             f"time.max_steps = {cfg.time.max_steps:.3g} (dt is set by the cell size, time.cfl, "
             f"time.dt and the fastest body: a spin or speed this large, or a cfl or dt this small, "
-            f"would run for ever); raise time.max_steps (--max-steps) to run it anyway"
+            f"would run for ever); raise time.max_steps (--max-steps, or --set max_steps=N on mpm steady/sweep) to run it anyway"
         )

@@ -77,9 +77,9 @@ def test_a_bad_arch_in_the_environment_is_refused_by_name():
 
 @pytest.mark.parametrize("command", ["steady", "sweep"])
 def test_cli_refuses_an_unknown_arch_before_compute(command, tmp_path):
-    r = CliRunner().invoke(app, ["mpm", command, "--quick", "--arch", "tpu", "--out", str(tmp_path / "o")])
+    r = CliRunner().invoke(app, ["mpm", command, "--quick", "--set", "arch=tpu", "--out", str(tmp_path / "o")])
     assert r.exit_code == 2
-    assert "arch must be one of cpu, cuda, vulkan, metal, gpu" in r.output and "'tpu'" in r.output
+    assert "arch: must be one of cpu, cuda, vulkan, metal, gpu" in r.output and "'tpu'" in r.output
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
 
 

@@ -89,8 +89,8 @@ def _replace(text, old, new):
 
 
 def test_1_frames_every_negative_is_refused_not_looped_for_ever(tmp_path):
-    _refused(_run("mpm", "steady", "--quick", "--out", tmp_path, "--frames-every", "-1"), "frames_every", "-1")
-    _refused(_run("mpm", "steady", "--quick", "--out", tmp_path, "--frames-every", "0"), "frames_every")
+    _refused(_run("mpm", "steady", "--quick", "--out", tmp_path, "--set", "frames_every=-1"), "frames_every", "-1")
+    _refused(_run("mpm", "steady", "--quick", "--out", tmp_path, "--set", "frames_every=0"), "frames_every")
 
 
 def test_1_sweep_workers_below_one_or_above_the_cores_are_refused(tmp_path):
@@ -226,8 +226,8 @@ def test_3_bad_geometry_is_refused_naming_the_polygon(tmp_path, old, new, words)
 
 
 def test_3_an_infinite_contact_band_is_refused():
-    _refused(_run("mpm", "steady", "--quick", "--contact-band", "inf"), "contact-band", "inf")
-    _refused(_run("mpm", "steady", "--quick", "--contact-band", "nan"), "contact-band")
+    _refused(_run("mpm", "steady", "--quick", "--set", "contact_band=inf"), "contact_band", "inf")
+    _refused(_run("mpm", "steady", "--quick", "--set", "contact_band=nan"), "contact_band")
 
 
 # ---------------------------------------------------------------- 4. run folders
@@ -264,7 +264,7 @@ def test_4_resume_refuses_an_mpm_steady_folder_and_leaves_its_result(tmp_path):
     (out / "locomotion.json").write_text("{}")
     (out / "result.json").write_text('{"velocity": 1.0}')
     before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
-    _refused(_run("mpm", "resume", out, "--t-end", "0.03"), "mpm steady", "--t-max")
+    _refused(_run("mpm", "resume", out, "--t-end", "0.03"), "mpm steady", "--set t_max")
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
 
 
@@ -355,7 +355,7 @@ def test_5_bad_numbers_in_a_file_are_one_line_and_exit_2(tmp_path, old, new, fie
         (["forces", "--slip", "nan"], ("--slip", "nan")),
         (["forces", "--sinkage-mm", "5,inf"], ("--sinkage-mm",)),
         (["mpm", "collect", ".", "--from", "nan"], ("--from", "nan")),
-        (["mpm", "steady", "--quick", "--cell-size", "1e-9"], ("domain.cells", "cells")),
+        (["mpm", "steady", "--quick", "--set", "cell_size=1e-9"], ("domain.cells", "cells")),
     ],
 )
 def test_5_bad_flags_are_one_line_and_exit_2(args, words):
@@ -425,7 +425,7 @@ def test_5_version():
     from intrusim import __version__
 
     r = _run("--version")
-    assert r.exit_code == 0 and r.output.strip() == __version__
+    assert r.exit_code == 0 and r.output.strip() == f"intrusim {__version__}"
 
 
 # ---------------------------------------------------------------- 6. sweeps

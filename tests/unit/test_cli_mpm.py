@@ -100,106 +100,107 @@ def test_bad_config_fails_before_compute_with_the_field_named(tmp_path):
     assert r.exit_code == 2 and "not a run folder" in r.output
 
 
-def test_contact_band_reaches_the_solver_config_and_a_negative_one_is_refused():
+def _quick(*sets, scenario="wheel", quick=True):
     from intrusim.cli_mpm import _case
+
+    return _case(scenario, quick, None, None, list(sets))
+
+
+def _set(*sets):
+    return [a for s in sets for a in ("--set", s)]
+
+
+def test_contact_band_reaches_the_solver_config_and_a_negative_one_is_refused():
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
-    case = _case("wheel", True, None, None, None, contact_band=0.5)
+    case = _quick("contact_band=0.5")
     assert mpm_config(case.scenario, case.mpm, 30.0).contact_band_cells == 0.5
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).contact_band_cells == 1.0
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--contact-band", "-1"])
+    assert mpm_config(case.scenario, _quick().mpm, 30.0).contact_band_cells == 1.0
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("contact_band=-1")])
     assert r.exit_code == 2 and "contact_band must be >= 0" in r.output
 
 
 def test_flip_reaches_the_solver_config_and_a_share_outside_0_1_is_refused():
-    from intrusim.cli_mpm import _case
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
-    case = _case("wheel", True, None, None, None, flip=1.0)
+    case = _quick("flip=1.0")
     assert mpm_config(case.scenario, case.mpm, 30.0).transfer.flip == 1.0
-    assert (
-        mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.flip is None
-    )  # the default
+    assert mpm_config(case.scenario, _quick().mpm, 30.0).transfer.flip is None  # the default
     for cmd in ("steady", "sweep"):
-        r = runner.invoke(app, ["mpm", cmd, "--quick", "--flip", "1.5"])
-        assert r.exit_code == 2 and "flip must be in [0, 1]" in r.output
+        r = runner.invoke(app, ["mpm", cmd, "--quick", *_set("flip=1.5")])
+        assert r.exit_code == 2 and "flip: Input should be less than or equal to 1 (got 1.5)" in r.output
 
 
 def test_shape_reaches_the_solver_config_and_an_unknown_one_is_refused():
-    from intrusim.cli_mpm import _case
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
-    case = _case("wheel", True, None, None, None, flip=1.0, shape="linear")
+    case = _quick("flip=1", "shape=linear")
     assert mpm_config(case.scenario, case.mpm, 30.0).transfer.shape == "linear"
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).transfer.shape == "quadratic"
+    assert mpm_config(case.scenario, _quick().mpm, 30.0).transfer.shape == "quadratic"
     for cmd in ("steady", "sweep"):
-        r = runner.invoke(app, ["mpm", cmd, "--quick", "--shape", "cubic"])
-        assert r.exit_code == 2 and "shape must be quadratic or linear" in r.output
+        r = runner.invoke(app, ["mpm", cmd, "--quick", *_set("shape=cubic")])
+        assert r.exit_code == 2 and "shape: Input should be 'quadratic' or 'linear' (got 'cubic')" in r.output
 
 
 def test_drop_escaped_reaches_the_solver_config():
-    from intrusim.cli_mpm import _case
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
-    case = _case("wheel", True, None, None, None, drop_escaped=True)
+    case = _quick("drop_escaped=true")
     assert mpm_config(case.scenario, case.mpm, 30.0).output.escaped == "drop"
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).output.escaped == "stop"
+    assert mpm_config(case.scenario, _quick().mpm, 30.0).output.escaped == "stop"
 
 
 def test_bed_length_keeps_the_cell_size_and_a_too_short_bed_is_refused():
-    from intrusim.cli_mpm import _case
-
-    full = _case("runner", False, None, None, None)
-    short = _case("runner", False, None, None, None, cell_size=0.0025, length=1.0)
+    full = _quick(scenario="runner", quick=False)
+    short = _quick("cell_size=0.0025", "length=1.0", scenario="runner", quick=False)
     assert full.mpm.domain[0] == 4.0 and short.mpm.domain == (1.0, full.mpm.domain[1])
     assert short.mpm.h == pytest.approx(0.0025) and short.mpm.cells == (400, round(full.mpm.domain[1] / 0.0025))
-    r = runner.invoke(app, ["mpm", "steady", "--scenario", "runner", "--length", "0.1"])
+    # the same case with the keys in the other order
+    assert _quick("length=1.0", "cell_size=0.0025", scenario="runner", quick=False).mpm == short.mpm
+    r = runner.invoke(app, ["mpm", "steady", "--scenario", "runner", *_set("length=0.1")])
     assert r.exit_code == 2 and "length must exceed" in r.output
 
 
 def test_t_max_reaches_the_run_settings_and_one_inside_the_settling_time_is_refused():
-    from intrusim.cli_mpm import _case
-
-    assert _case("wheel", True, None, None, None, t_max=3.0).mpm.t_max == 3.0
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--t-max", "0.5"])
+    assert _quick("t_max=3.0").mpm.t_max == 3.0
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("t_max=0.5")])
     assert r.exit_code == 2 and "t_max must exceed ramp_time + settle_time" in r.output
 
 
 def test_mu_i_and_fluidity_reach_the_material_and_bad_diameters_are_refused():
-    from intrusim.cli_mpm import _case
     from intrusim.scenarios.mpm_locomotion import mpm_config
 
-    case = _case("wheel", True, None, None, None, mu_i_diameter=2e-3)
+    case = _quick("mu_i_diameter=2e-3")
     material = mpm_config(case.scenario, case.mpm, 30.0).material
     assert material.mu_i.grain_diameter == 2e-3 and material.mu_i.grain_density == 1100.0
-    assert mpm_config(case.scenario, _case("wheel", True, None, None, None).mpm, 30.0).material.mu_i is None
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--mu-i-diameter", "0"])
+    assert mpm_config(case.scenario, _quick().mpm, 30.0).material.mu_i is None
+    assert _quick("mu_i.grain_diameter=2e-3").mpm == case.mpm  # the dotted key of the field itself
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("mu_i_diameter=0")])
     assert r.exit_code == 2 and "mu_i_diameter must be > 0" in r.output
-    case = _case("wheel", True, None, None, None, fluidity_diameter=1e-3)
+    case = _quick("fluidity_diameter=1e-3")
     assert mpm_config(case.scenario, case.mpm, 30.0).material.fluidity.grain_diameter == 1e-3
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--fluidity-diameter", "-1"])
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("fluidity_diameter=-1")])
     assert r.exit_code == 2 and "fluidity_diameter must be > 0" in r.output
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--fluidity-diameter", "1e-3", "--mu-i-diameter", "1e-3"])
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("fluidity_diameter=1e-3", "mu_i_diameter=1e-3")])
     assert r.exit_code == 2 and "not both" in r.output
 
 
 def test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_compute(tmp_path):
-    from intrusim.cli_mpm import _case
-
-    assert _case("wheel", True, None, None, None, treadmill="0.5,0.35").mpm.treadmill == (0.5, 0.35)
-    assert _case("wheel", True, None, None, None).mpm.treadmill is None
+    assert _quick("treadmill=[0.5, 0.35]").mpm.treadmill == (0.5, 0.35)
+    assert _quick().mpm.treadmill is None
     for bad, reason in (
-        ("0.5", "two numbers"),
-        ("0.5,x", "comma-separated numbers"),
-        ("0.35,0.5", "x_target < x_trigger"),
-        ("0.1,0.05", "ahead of start_x"),
+        ("0.5", "treadmill: Input should be a valid tuple"),
+        ("[0.5]", "treadmill.1: Field required"),
+        ("0.5,x", "treadmill: Input should be a valid tuple"),
+        ("[0.35, 0.5]", "x_target < x_trigger"),
+        ("[0.1, 0.05]", "ahead of start_x"),
     ):
-        r = runner.invoke(app, ["mpm", "steady", "--quick", "--treadmill", bad, "--out", str(tmp_path / "t")])
+        r = runner.invoke(app, ["mpm", "steady", "--quick", *_set(f"treadmill={bad}"), "--out", str(tmp_path / "t")])
         assert r.exit_code == 2 and reason in r.output, (bad, r.output)
     assert not any((tmp_path / "t").rglob("*.csv"))  # nothing ran
     # a 0.6 m bed stops the wheel at t = 1.09 s (its front 8 cm from the wall, centre at 0.41 m);
     # on the treadmill it runs to t_max and travels past the bed's end
-    r = runner.invoke(app, ["mpm", "steady", "--quick", "--length", "0.6", "--t-max", "1.6", "--treadmill", "0.3,0.2"])
+    r = runner.invoke(app, ["mpm", "steady", "--quick", *_set("length=0.6", "t_max=1.6", "treadmill=[0.3, 0.2]")])
     assert r.exit_code == 0, r.output
     assert "steady state over t = 0.60-1.59 s" in r.output
     assert float(re.findall(r"  x = ([0-9.]+) m ", r.output)[-1]) > 0.45
@@ -214,7 +215,7 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     assert (run_dir / "result.json").exists()
     before = {p.name: p.read_bytes() for p in run_dir.iterdir()}
     r = runner.invoke(
-        app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--contact-band", "0"]
+        app, ["mpm", "steady", "--quick", "--omega-rpm", "60", "--out", str(tmp_path), "--set", "contact_band=0"]
     )
     assert r.exit_code == 2 and "another configuration (differs in contact, contact_band_cells)" in r.output.replace(
         "\n", " "
@@ -228,6 +229,10 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     res = SweepResult.from_csv(tmp_path / "grousered_wheel_mpm_sweep.csv")
     done = json.loads((run_dir / "result.json").read_text())
     assert res.omega_rpm.tolist() == [60.0] and res.column("velocity")[0] == pytest.approx(done["velocity"])
+    from intrusim.scenarios.mpm_settings import read_record
+
+    recorded = json.loads((run_dir / "locomotion.json").read_text())["settings"]
+    assert read_record(tmp_path / "grousered_wheel_mpm_sweep.csv") == {60.0: recorded}  # what reproduce checks
     assert res.column("window_start")[0] == pytest.approx(done["window"][0])
     # a later window (a run that settled late): averages from --from on, dh from the run's own per-chunk drops
     late = tmp_path / "late.csv"

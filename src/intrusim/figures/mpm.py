@@ -8,9 +8,11 @@ Full-resolution wheel sweeps take about an hour on 2 cores; ``quick`` uses 2 cm 
 
 from __future__ import annotations
 
+import json
 import sys
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import matplotlib
 
@@ -18,12 +20,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from intrusim._checks import InputError  # noqa: E402
 from intrusim.analysis.sweep import SweepResult, sweep_omega  # noqa: E402
 from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
+from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.
@@ -34,13 +38,69 @@ MPM_RUNNER_RPM = np.array([20.0, 50.0, 100.0, 150.0, 200.0, 300.0])
 MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 
 
+# (key, value) settings applied over the quick or paper settings of every MPM case of a figure
+# (`intrusim reproduce --settings/--set`; :func:`case_settings`)
+_SETTINGS: list[tuple[str, Any]] = []
+
+
+@contextmanager
+def case_settings(items: list[tuple[str, Any]]) -> Iterator[None]:
+    """Within this block the figures' MPM cases take ``items`` (key, value) over their base settings
+    (:func:`intrusim.scenarios.mpm_settings.apply_settings`)."""
+    saved = list(_SETTINGS)
+    _SETTINGS[:] = items
+    try:
+        yield
+    finally:
+        _SETTINGS[:] = saved
+
+
 def runs_root(runs: Path | None, quick: bool) -> Path:
     return Path(runs) if runs is not None else Path("runs") / ("mpm-quick" if quick else "mpm")
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    settings = quick_settings(scenario.body) if quick else paper_settings(scenario.body)
+    base = quick_settings(scenario.body) if quick else paper_settings(scenario.body)
+    settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
+
+
+def _refuse(source: Any, diff: list[str]) -> None:
+    shown = ", ".join(diff[:8]) + (f" and {len(diff) - 8} more" if len(diff) > 8 else "")
+    raise InputError(
+        f"{source} holds MPM runs of other settings than the figure's case (differs in {shown}); "
+        "give reproduce the runs' settings (--settings, --set) or another --runs folder"
+    )
+
+
+def check_run_folder(case: MPMLocomotion, omega_rpm: float) -> None:
+    """Refuse (InputError) the run folder of ``omega_rpm`` if its recorded settings
+    (locomotion.json) differ from the case's (a shorter t_max is not a difference: the run is extended)."""
+    run_dir = case.run_dir(omega_rpm)
+    info = None if run_dir is None else run_dir / "locomotion.json"
+    if info is None or not info.is_file():
+        return
+    diff = settings_differences(json.loads(info.read_text()).get("settings") or {}, case.mpm, longer_ok=True)
+    if diff:
+        _refuse(run_dir, diff)
+
+
+def check_sweep_csv(case: MPMLocomotion, table: Path, omegas: np.ndarray) -> None:
+    """Refuse (InputError) a sweep CSV whose runs were recorded (SCENARIO_mpm_sweep.settings.json,
+    or the run folders beside it) with other settings than the case's; a CSV with no record is
+    used with a warning."""
+    recorded = read_record(table)
+    if recorded is None:
+        folders = [table.parent / f"{case.scenario.name}_{w:g}rpm" / "locomotion.json" for w in omegas]
+        recorded = {w: json.loads(f.read_text()).get("settings") or {} for w, f in zip(omegas, folders) if f.is_file()}
+    if not recorded:
+        print(
+            f"warning: {table} records no settings of its runs: not checked against the figure's case", file=sys.stderr
+        )
+        return
+    diff = sorted({k for s in recorded.values() for k in settings_differences(s, case.mpm)})
+    if diff:
+        _refuse(table, diff)
 
 
 def mpm_sweep(
@@ -55,10 +115,13 @@ def mpm_sweep(
     from intrusim.analysis.calibration import load_reference
 
     case = mpm_case(scenario, quick, runs)
+    for w in rpm:  # a finished or interrupted run of other settings is refused, not reused or extended
+        check_run_folder(case, w)
     missing = [w for w in rpm if not (case.run_dir(w) / "result.json").exists()]  # type: ignore[operator]
     table = runs_root(runs, quick) / f"{scenario.name}_mpm_sweep.csv"
     if missing and table.is_file():
         res = load_reference(table, scenario.name)
+        check_sweep_csv(case, table, res.omega_rpm)
         print(
             f"{scenario.name}: MPM points from {table} ({len(res.records)} finished runs at "
             f"{', '.join(f'{w:g}' for w in res.omega_rpm)} RPM)",
@@ -138,6 +201,7 @@ def fig5c(
 def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> dict[str, np.ndarray]:
     """The last saved particle snapshot of a run (running it first if needed)."""
     case = mpm_case(scenario, quick, runs)
+    check_run_folder(case, rpm)
     run_dir = case.run_dir(rpm)
     if run_dir is None or not (run_dir / "result.json").exists():
         case.run_steady("mpm", rpm)
@@ -172,7 +236,7 @@ def fig3cd(
     from intrusim.scenarios import grousered_wheel_scenario
 
     s = grousered_wheel_scenario()
-    h = (quick_settings if quick else paper_settings)("wheel").h
+    h = mpm_case(s, quick, runs).mpm.h
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), gridspec_kw={"width_ratios": [1, 1, 0.7]}, layout="constrained")
     rows: list[dict[str, Any]] = []
     for ax, rpm in zip(axes[:2], (30.0, 60.0)):

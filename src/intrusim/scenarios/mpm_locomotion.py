@@ -24,10 +24,10 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Literal
+from typing import Annotated, Any, Callable, Literal, get_args
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
@@ -38,6 +38,9 @@ from intrusim.mpm.io import atomic_file, atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
 from intrusim.scenarios.locomotor import LocomotorScenario
+
+_Length = Annotated[float, Field(gt=0.0)]
+_Count = Annotated[int, Field(ge=1)]
 
 
 class MPMSettings(Config):
@@ -87,8 +90,8 @@ class MPMSettings(Config):
         to ``frames/`` in the run folder; None: no frames.
     """
 
-    domain: tuple[float, float] = (1.0, 1.0)
-    cells: tuple[int, int] = (200, 200)
+    domain: tuple[_Length, _Length] = (1.0, 1.0)
+    cells: tuple[_Count, _Count] = (200, 200)
     particles_per_cell: int = Field(2, ge=1, le=4)
     bed_depth: float = Field(0.3, gt=0.0)
     start_x: float = Field(0.16, gt=0.0)
@@ -124,6 +127,16 @@ class MPMSettings(Config):
     @property
     def h(self) -> float:
         return self.domain[0] / self.cells[0]
+
+    @field_validator("arch")
+    @classmethod
+    def _known_arch(cls, arch: str) -> str:
+        from intrusim.mpm.config import BackendConfig
+
+        names = get_args(BackendConfig.model_fields["arch"].annotation)
+        if arch not in names:
+            raise ValueError(f"must be one of {', '.join(names)}")
+        return arch
 
     @model_validator(mode="after")
     def _treadmill_in_box(self) -> "MPMSettings":

@@ -1,0 +1,246 @@
+"""Settings of an MPM locomotion run from a TOML file and ``key=value`` overrides, and the record of
+the settings a sweep's runs were made with.
+
+The command line (``intrusim mpm steady|sweep``, ``intrusim reproduce``) builds its
+:class:`~intrusim.scenarios.mpm_locomotion.MPMSettings` here, in one order: the base (the quick or
+paper settings of the scenario's body), then the ``--settings`` file, then each ``--set key=value``
+in the order given. Every value goes through the settings' validation before any compute; an
+error names the key and the value.
+
+Keys are the fields of ``MPMSettings`` (dotted for the parts of a field: ``mu_i.grain_diameter``,
+``cells.0``) and the derived keys of :data:`DERIVED`, each of which sets one or more fields.
+A ``--set`` value is read as a TOML value (``1e-3``, ``true``, ``[0.5, 0.35]``, ``"linear"``); what is
+not one is taken as a bare string (``shape=linear``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Iterable
+
+from intrusim._checks import InputError
+from intrusim.errors import validation_message
+
+# derived keys: a convenience that sets one or more MPMSettings fields
+DERIVED: dict[str, str] = {
+    "cell_size": "grid cell size, m: cells = domain / cell_size",
+    "length": "bed length, m: domain's first entry, the cell size kept",
+    "contact_band": "cells: contact = 'band' with contact_band_cells = this (docs/mpm.md)",
+    "mu_i_diameter": "grain diameter, m: mu_i = {grain_diameter = this} (friction mu(I), not the paper's law)",
+    "fluidity_diameter": "grain diameter, m: fluidity = {grain_diameter = this} (nonlocal fluidity, not the paper's law)",
+}
+
+# settings that choose how a run is computed or saved, not what it computes: a recorded run that
+# differs from the case asked for only in these is the same case
+RUN_CONTROL = frozenset({"cpu_threads", "arch", "frames_every", "keep_fields", "max_steps"})
+
+
+def settings_keys() -> list[str]:
+    """Every key ``--set`` and a settings file take (the fields, then the derived keys)."""
+    from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+    return [*MPMSettings.model_fields, *DERIVED]
+
+
+def parse_assignment(item: str) -> tuple[str, Any]:
+    """``"key=value"`` -> (key, value): the value read as TOML, else taken as a bare string."""
+    key, sep, text = item.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise InputError(f"--set takes KEY=VALUE, got {item!r}")
+    try:
+        value = tomllib.loads(f"v = {text.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = text.strip()
+    return key, value
+
+
+def _flatten(data: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    out = []
+    for k, v in data.items():
+        if isinstance(v, dict):
+            out += _flatten(v, f"{prefix}{k}.")
+        else:
+            out.append((f"{prefix}{k}", v))
+    return out
+
+
+def read_settings_file(path: str | Path) -> list[tuple[str, Any]]:
+    """The (key, value) pairs of a settings TOML file, tables as dotted keys (``[mu_i]`` then
+    ``grain_diameter = 1e-3`` is ``mu_i.grain_diameter``)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--settings: no such file: {p}" if not p.exists() else f"--settings: {p} is not a file")
+    try:
+        return _flatten(tomllib.loads(p.read_text()))
+    except UnicodeDecodeError:
+        raise InputError(f"--settings {p}: not a text (TOML) file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"--settings {p}: invalid TOML ({err})") from None
+
+
+def _number(key: str, value: Any, what: str, positive: bool = True) -> float:
+    """A derived key's value: a finite number (not true/false), > 0 (or >= 0)."""
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if not ok or not (value > 0 if positive else value >= 0):
+        raise InputError(f"{key} must be {'>' if positive else '>='} 0 {what} (a finite number), got {value!r}")
+    return float(value)
+
+
+def _set_path(data: dict[str, Any], key: str, value: Any) -> None:
+    """Set a dotted key in a nested dict (a missing part, e.g. mu_i of None, becomes a table)."""
+    parts = key.split(".")
+    node: Any = data
+    for i, part in enumerate(parts):
+        last = i == len(parts) - 1
+        where = ".".join(parts[: i + 1])
+        if isinstance(node, list):
+            if not (part.isdigit() and int(part) < len(node)):
+                raise InputError(f"unknown setting {key!r}: {'.'.join(parts[:i]) or key} has {len(node)} entries")
+            part = int(part)  # type: ignore[assignment]
+        elif not isinstance(node, dict):
+            raise InputError(f"unknown setting {key!r}: {'.'.join(parts[:i])} is not a table")
+        if last:
+            node[part] = value
+        else:
+            if isinstance(node, dict) and node.get(part) is None:
+                node[part] = {}
+            node = node[part]
+            if not isinstance(node, (dict, list)):
+                raise InputError(f"unknown setting {key!r}: {where} is not a table")
+
+
+def check_keys(items: Iterable[tuple[str, Any]]) -> None:
+    """Refuse (InputError) a key that is neither a settings field nor a derived key."""
+    from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+    for key, _ in items:
+        if key.split(".", 1)[0] not in (*MPMSettings.model_fields, *DERIVED):
+            raise InputError(f"unknown setting {key!r}; valid keys: {', '.join(settings_keys())}")
+
+
+def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
+    """``base`` (an MPMSettings) with ``items`` (key, value) applied in order, validated as one
+    whole: a bad key or value is an InputError naming it, raised before any compute."""
+    from pydantic import ValidationError
+
+    from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+    data = base.model_dump(mode="json")
+    given: list[str] = []
+    for key, value in items:
+        top = key.split(".", 1)[0]
+        given.append(top)
+        if top in DERIVED:
+            if key != top:
+                raise InputError(f"unknown setting {key!r}: {top} is a number, not a table")
+            _derived(data, key, value)
+        elif top in MPMSettings.model_fields:
+            _set_path(data, key, value)
+        else:
+            raise InputError(f"unknown setting {key!r}; valid keys: {', '.join(settings_keys())}")
+    try:
+        s = MPMSettings.model_validate(data)
+    except ValidationError as err:
+        raise InputError(validation_message(err)) from None
+    if not s.t_max > s.ramp_time + s.settle_time:
+        raise InputError(
+            f"t_max must exceed ramp_time + settle_time ({s.ramp_time + s.settle_time:g} s), got {s.t_max!r}"
+        )
+    if not s.domain[0] > s.start_x + s.wall_margin:
+        raise InputError(
+            f"bed length must exceed start_x + wall_margin ({s.start_x + s.wall_margin:g} m), got {s.domain[0]!r}"
+        )
+    if s.mu_i is not None and s.fluidity is not None:
+        raise InputError("give one of mu_i (mu_i_diameter) and fluidity (fluidity_diameter), not both")
+    return s
+
+
+def _derived(data: dict[str, Any], key: str, value: Any) -> None:
+    """Apply one derived key (:data:`DERIVED`) to the settings' dict."""
+    domain, cells = data["domain"], data["cells"]
+
+    def count(length: float, h: float) -> int:  # cells of one side
+        n = length / h
+        if not math.isfinite(n):
+            raise InputError(f"{key} = {value!r} gives a non-finite number of cells ({length:g} m / {h:g} m)")
+        return max(1, round(n))
+
+    if key == "cell_size":
+        h = _number(key, value, "m")
+        data["cells"] = [count(d, h) for d in domain]
+    elif key == "length":
+        length = _number(key, value, "m")
+        data["domain"], data["cells"] = [length, domain[1]], [count(length, domain[0] / cells[0]), cells[1]]
+    elif key == "contact_band":
+        data["contact"], data["contact_band_cells"] = "band", _number(key, value, "cells", positive=False)
+    elif key == "mu_i_diameter":
+        data["mu_i"] = {"grain_diameter": _number(key, value, "m")}
+    elif key == "fluidity_diameter":
+        data["fluidity"] = {"grain_diameter": _number(key, value, "m")}
+
+
+def case_settings(body: str, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = ()) -> Any:
+    """The MPMSettings of a command: the quick or paper base of ``body``, then the settings file,
+    then each ``key=value`` of ``sets`` in order."""
+    from intrusim.scenarios.mpm_locomotion import paper_settings, quick_settings
+
+    items = [] if settings_file is None else read_settings_file(settings_file)
+    items += [parse_assignment(s) for s in sets]
+    return apply_settings(quick_settings(body) if quick else paper_settings(body), items)
+
+
+# ---------------------------------------------------------------- the record of a sweep's settings
+
+
+def record_path(csv_path: str | Path) -> Path:
+    """The file beside a sweep CSV that records the settings of its runs."""
+    p = Path(csv_path)
+    return p.with_name(p.stem + ".settings.json")
+
+
+def write_record(csv_path: str | Path, scenario: str, settings: dict[float, Any]) -> Path:
+    """Record the settings (an MPMSettings or its dict, per omega) of the runs of a sweep CSV."""
+    from intrusim.mpm.io import atomic_write_bytes
+
+    runs = {f"{w:g}": s if isinstance(s, dict) else s.model_dump(mode="json") for w, s in settings.items()}
+    path = record_path(csv_path)
+    atomic_write_bytes(path, json.dumps({"scenario": scenario, "settings": runs}, indent=1).encode())
+    return path
+
+
+def read_record(csv_path: str | Path) -> dict[float, dict[str, Any]] | None:
+    """The recorded settings per omega of a sweep CSV's runs, or None where none were recorded."""
+    path = record_path(csv_path)
+    if not path.is_file():
+        return None
+    return {float(w): s for w, s in json.loads(path.read_text())["settings"].items()}
+
+
+def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
+    if isinstance(data, dict):
+        out: dict[str, Any] = {}
+        for k, v in data.items():
+            out.update(_flat(v, f"{prefix}{k}."))
+        return out if out or not prefix else {prefix[:-1]: {}}
+    return {prefix[:-1]: data}
+
+
+def settings_differences(recorded: dict[str, Any], wanted: Any, longer_ok: bool = False) -> list[str]:
+    """Keys at which recorded settings (a dict, read as MPMSettings: a setting added since is its
+    default) differ from ``wanted`` (an MPMSettings); :data:`RUN_CONTROL` keys are not differences,
+    nor, with ``longer_ok``, a recorded t_max shorter than the wanted one (the run is extended)."""
+    from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+    try:
+        recorded = MPMSettings.model_validate(recorded).model_dump(mode="json")
+    except ValueError:
+        pass  # not settings of this version: compared as written
+    a, b = _flat(recorded), _flat(wanted.model_dump(mode="json"))
+    diff = [k for k in sorted(set(a) | set(b)) if k.split(".")[0] not in RUN_CONTROL and a.get(k) != b.get(k)]
+    if longer_ok and "t_max" in diff and isinstance(a.get("t_max"), (int, float)) and a["t_max"] < b["t_max"]:
+        diff.remove("t_max")
+    return diff
