@@ -19,7 +19,7 @@ import taichi as ti
 
 from . import backend
 from .coulomb import coulomb_project
-from .fixed_point import ATOMIC, FIXED, scatter_add
+from .exact_sums import ATOMIC, FIXED, scatter_add
 from .particles import LANES, get_scalar, get_vec2, set_vec2
 from .step_graph import Launch, Var
 
@@ -78,7 +78,7 @@ def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: in
 
 
 def _make_contact_kernel(fixed: bool):
-    mode = FIXED if fixed else ATOMIC  # how the nodes' impulses are summed (fixed_point.scatter_add)
+    mode = FIXED if fixed else ATOMIC  # how the nodes' impulses are summed (exact_sums.scatter_add)
 
     @ti.kernel
     def rigid_polygon_contact(
@@ -143,7 +143,7 @@ _CONTACT_KERNELS = {fixed: _make_contact_kernel(fixed) for fixed in (False, True
 
 
 def _make_point_contact_kernel(fixed: bool):
-    mode = FIXED if fixed else ATOMIC  # how the points' impulses are summed (fixed_point.scatter_add)
+    mode = FIXED if fixed else ATOMIC  # how the points' impulses are summed (exact_sums.scatter_add)
 
     @ti.kernel
     def rigid_polygon_point_contact(
