@@ -43,7 +43,6 @@ SLOW = (
     "tests/unit/test_examples.py::test_mpm_rft_map",
     "tests/unit/test_examples.py::test_mpm_run_from_toml",
     "tests/unit/test_figures.py::test_fig7bc_quick_csv_is_nondimensionalised",
-    "tests/unit/test_layout.py::test_no_import_cycles_outside_mpm",
     "tests/unit/test_layout.py::test_the_package_does_not_import_research",
     "tests/unit/test_mpm_flip.py::test_flip_keeps_a_free_points_velocity_where_apic_replaces_it",
     "tests/unit/test_mpm_flip.py::test_flip_runs_the_one_point_kernels_and_the_fixed_point_sums_agree",

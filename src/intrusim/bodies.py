@@ -436,7 +436,7 @@ def _simulate_compiled(
     s: IntegratorSettings, t0: float,
 ) -> Trajectory:  # fmt: skip
     """The implicit scheme of :func:`simulate` in the compiled loop (``intrusim._implicit_jit``)."""
-    from intrusim import _implicit_jit as jit
+    import intrusim._implicit_jit as jit
 
     dt = s.dt
     n = int(math.ceil(duration / dt - 1e-9))
@@ -466,7 +466,7 @@ def _simulate_compiled(
 
 def _compiled_failure(status: int, info: np.ndarray, s: IntegratorSettings) -> IntegratorError:
     """The IntegratorError the Python loop raises for the same failure."""
-    from intrusim import _implicit_jit as jit
+    import intrusim._implicit_jit as jit
 
     if status == jit.SINGULAR:
         return _fail("singular Newton Jacobian", info[0], s)

@@ -9,8 +9,8 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
-from intrusim import __version__
 from intrusim._checks import InputError, finite
+from intrusim._version import __version__
 from intrusim.errors import guarded_group
 from intrusim.forces import make_force_model
 from intrusim.geometry import grousered_wheel

@@ -96,7 +96,7 @@ def steady(
         run_dir = None if out is None else safe_child(out, f"{case.scenario.name}_{omega_rpm:g}rpm")
         with run_lock(run_dir):  # one writer per run folder
             if run_dir is not None:  # a result.json is true of the run that wrote it: gone until this one ends
-                from intrusim.mpm.solver import refuse_other_run
+                from intrusim.mpm.io import refuse_other_run
                 from intrusim.scenarios.mpm_locomotion import mpm_config
 
                 refuse_other_run(run_dir, mpm_config(case.scenario, case.mpm, omega_rpm, run_dir))  # before touching it

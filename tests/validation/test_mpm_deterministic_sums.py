@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from intrusim.mpm.fixed_point import FIXED_POINT_HEADROOM, fixed_point_scale
+from intrusim.mpm.exact_sums import FIXED_POINT_HEADROOM, fixed_point_scale
 from intrusim.mpm.plate import PlateDragCase
 from intrusim.mpm.solver import Solver
 from intrusim.mpm.step_graph import run_direct

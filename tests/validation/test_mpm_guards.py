@@ -86,7 +86,7 @@ def test_a_run_stopped_by_an_escape_goes_on_from_its_folder_with_drop(tmp_path):
     """The folder of a "stop" run is taken by a "drop" run (the history up to its checkpoint dropped no
     point), and not the other way round."""
     from intrusim._checks import InputError
-    from intrusim.mpm.solver import refuse_other_run
+    from intrusim.mpm.io import refuse_other_run
 
     stop = _solver(tmp_path)
     stop.run()  # writes config.json

@@ -9,7 +9,7 @@ on and beyond it keep their velocity, and the points that leave through it are r
 import taichi as ti
 
 from .config import BoundaryConfig
-from .contact import coulomb_project
+from .coulomb import coulomb_project
 
 KIND_CODE = {"frictionless": 0, "sticky": 1, "coulomb": 2, "open": 3}
 SIDES = ("left", "right", "floor", "top")

@@ -18,28 +18,13 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .fixed_point import ATOMIC, FIXED, scatter_add
+from .coulomb import coulomb_project
+from .exact_sums import ATOMIC, FIXED, scatter_add
 from .particles import LANES, get_scalar, get_vec2, set_vec2
 from .step_graph import Launch, Var
 
-if TYPE_CHECKING:  # the grid update imports the wall law, which uses coulomb_project
+if TYPE_CHECKING:
     from .grid import Grid
-
-
-@ti.func
-def coulomb_project(v_rel, n, mu):
-    """Velocity after a no-penetration, Coulomb-friction contact with unit normal n (no tension)."""
-    vn = v_rel.dot(n)
-    out = v_rel
-    if vn < 0.0:
-        vt = v_rel - vn * n
-        vt_norm = vt.norm()
-        # |dv_t| <= mu |dv_n| with |dv_n| = -vn
-        if vt_norm > -mu * vn:
-            out = vt * (1.0 + mu * vn / vt_norm)
-        else:
-            out = vt * 0.0
-    return out
 
 
 @ti.func
@@ -93,7 +78,7 @@ def node_box(cx: ti.f64, cz: ti.f64, radius: ti.f64, h: ti.f64, pad: int, nx: in
 
 
 def _make_contact_kernel(fixed: bool):
-    mode = FIXED if fixed else ATOMIC  # how the nodes' impulses are summed (fixed_point.scatter_add)
+    mode = FIXED if fixed else ATOMIC  # how the nodes' impulses are summed (exact_sums.scatter_add)
 
     @ti.kernel
     def rigid_polygon_contact(
@@ -158,7 +143,7 @@ _CONTACT_KERNELS = {fixed: _make_contact_kernel(fixed) for fixed in (False, True
 
 
 def _make_point_contact_kernel(fixed: bool):
-    mode = FIXED if fixed else ATOMIC  # how the points' impulses are summed (fixed_point.scatter_add)
+    mode = FIXED if fixed else ATOMIC  # how the points' impulses are summed (exact_sums.scatter_add)
 
     @ti.kernel
     def rigid_polygon_point_contact(

@@ -31,7 +31,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
-from .fixed_point import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
+from .exact_sums import ATOMIC, FIXED, PLAIN, scatter_add, sum_mode
 from .grid import make_record, record_index, record_width, union_box, zero_record
 from .particles import LANES, XX, XZ, ZZ, chunk_blocks, get_scalar, get_sym2, get_vec2, set_scalar, set_sym2
 from .transfer import (
@@ -101,7 +101,7 @@ def _scatter_source(
     scale,
 ):
     """Point p's sources into copy c of ``parts`` (records, ``grid.record_index``, ``grid.record_width``: the stencil's
-    first node addressed once, the other 8 at fixed offsets), by ``fixed_point.scatter_add`` (PLAIN: one
+    first node addressed once, the other 8 at fixed offsets), by ``exact_sums.scatter_add`` (PLAIN: one
     loop iteration owns copy c; ATOMIC; FIXED: 64-bit fixed point). Returns the stencil's base node."""
     base, w, val = _point_source(p, x, mass, sigma, s_yy, nx, ny, h, pad, prm)
     first = record_index(c, base[0], base[1], nx, ny)

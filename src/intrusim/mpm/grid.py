@@ -9,7 +9,7 @@ import taichi as ti
 from . import backend
 from .backend import info
 from .boundaries import wall_velocity
-from .fixed_point import fixed_point_scale
+from .exact_sums import fixed_point_scale
 
 PAD = 3  # cells of padding around the domain, enough for the quadratic stencil of escaping points
 

@@ -16,7 +16,7 @@ from .config import MPMConfig
 
 def package_version() -> str:
     try:
-        from intrusim import __version__
+        from intrusim._version import __version__
 
         return __version__
     except Exception:  # pragma: no cover
@@ -135,16 +135,71 @@ def checkpoint_config(cfg: MPMConfig) -> dict:
 def checkpoint_mismatch(saved: dict | None, cfg: MPMConfig) -> list[str]:
     """Dotted keys at which a checkpoint's configuration differs from ``cfg`` (the thread count,
     the folder, the end time, the step limit and the escape policy are not differences: see
-    ``solver.refuse_other_run``); [] for a checkpoint that stores none (written by an older version)."""
+    :func:`refuse_other_run`); [] for a checkpoint that stores none (written by an older version)."""
     if not saved:
         return []
-    from .solver import config_differences
-
     try:  # a setting added since is its default there
         saved = MPMConfig.model_validate(saved).model_dump(mode="json")
     except ValueError:
         pass
     return config_differences(saved, cfg.model_dump(mode="json"), ignore=set(CONFIG_KEY_IGNORED))
+
+
+def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
+    """Raise InputError if ``run_dir`` holds a run (config.json) of a configuration other than
+    ``cfg``, naming the differences. The thread count (the P2G sums do not depend on it) and the
+    folder's own path (a moved folder) are not differences, and neither is a later end time: the
+    same run, longer, goes on from the folder's checkpoint (nothing before the old end depends on
+    the end time, so it equals a run made that long from the start), nor ``output.escaped`` turned from
+    "stop" to "drop" (a run that went on to its checkpoint dropped no point, so that history is the
+    same under either; a run stopped by an escape goes on from its last checkpoint). Returns True if
+    the folder holds such a shorter run, which this one extends."""
+    from intrusim.errors import InputError
+
+    config_path = Path(run_dir) / "config.json"
+    if not config_path.exists():
+        return False
+    saved = json.loads(config_path.read_text()).get("config") or {}
+    try:  # a setting added since the folder was written is its default there, as when it is loaded
+        saved = MPMConfig.model_validate(saved).model_dump(mode="json")
+    except ValueError:
+        pass  # not a configuration of this version: compared as written
+    diff = config_differences(
+        saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory", "time.max_steps"}
+    )
+    saved_end = (saved.get("time") or {}).get("t_end")
+    extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
+    if extends:
+        diff.remove("time.t_end")
+    if (
+        "output.escaped" in diff
+        and (saved.get("output") or {}).get("escaped") == "stop"
+        and cfg.output.escaped == "drop"
+    ):
+        diff.remove("output.escaped")
+    if diff:
+        shown = ", ".join(diff[:6]) + (f" and {len(diff) - 6} more" if len(diff) > 6 else "")
+        hint = " (a run can be extended to a later end time, not cut short)" if "time.t_end" in diff else ""
+        raise InputError(
+            f"{run_dir} holds a run of another configuration (differs in {shown}){hint}; "
+            "choose another output folder, or delete that one to start afresh"
+        )
+    return extends
+
+
+def config_differences(a: dict, b: dict, ignore: set[str] = frozenset(), prefix: str = "") -> list[str]:
+    """Dotted keys at which two nested config dicts differ (keys in ``ignore`` left out)."""
+    out = []
+    for key in sorted(set(a) | set(b)):
+        name = f"{prefix}{key}"
+        if name in ignore:
+            continue
+        va, vb = a.get(key), b.get(key)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += config_differences(va, vb, ignore, name + ".")
+        elif va != vb:
+            out.append(name)
+    return out
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> None:

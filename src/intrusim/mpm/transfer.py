@@ -13,7 +13,7 @@ grad w_ip ~ w_ip (4/h^2)(x_i - x_p), exact for quadratic B-splines.
 import taichi as ti
 
 from . import backend
-from .fixed_point import FIXED, PLAIN, scatter_add, sum_mode
+from .exact_sums import FIXED, PLAIN, scatter_add, sum_mode
 from .grid import make_record, record_index
 from .particles import (
     LANES,

@@ -622,7 +622,7 @@ class MPMLocomotion(Config):
         out = self.run_dir(omega_rpm)
         with run_lock(out):  # one writer per run folder
             if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
-                from intrusim.mpm.solver import refuse_other_run
+                from intrusim.mpm.io import refuse_other_run
 
                 if not refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out)):
                     return load_result(out, self.mpm, self.scenario.body)
