@@ -147,31 +147,6 @@ def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
     return scn.validated_copy(force_model=fm)
 
 
-MAX_POINTS = 10_000  # omegas of one sweep
-
-
-def _parse_rpm(text: str) -> list[float]:
-    """'10,30,90' or 'start:stop:step' (inclusive stop) -> RPM list of finite numbers."""
-    try:
-        if ":" in text:
-            a, b, c = (float(x) for x in text.split(":"))
-            if not all(math.isfinite(x) for x in (a, b, c)) or c <= 0 or b < a:
-                raise InputError(
-                    f"omega range start:stop:step needs finite numbers, step > 0 and stop >= start, got {text!r}"
-                )
-            if (b - a) / c + 1 > MAX_POINTS:
-                raise InputError(f"omega range {text!r} has {(b - a) / c + 1:.3g} points, more than {MAX_POINTS}")
-            return [float(w) for w in np.arange(a, b + 0.5 * c, c)]
-        out = [float(x) for x in text.split(",") if x.strip()]
-    except ValueError as err:
-        if isinstance(err, InputError):
-            raise
-        raise InputError(f"omega list must be 'a,b,c' or 'start:stop:step' (RPM), got {text!r}") from None
-    if not all(math.isfinite(w) for w in out):
-        raise InputError(f"omega list must hold finite numbers, got {text!r}")
-    return out
-
-
 @app.command()
 def sweep(
     scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
@@ -187,13 +162,13 @@ def sweep(
     ),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
-    from intrusim.analysis.sweep import sweep_omega
+    from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.scenarios import load_scenario
 
     try:
         scn = with_rft_table(load_scenario(scenario), rft_coefficients)
         res = sweep_omega(
-            scn, model, _parse_rpm(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
+            scn, model, omega_list(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
         )
     except InputError as err:
         _fail(err)

@@ -136,8 +136,7 @@ def sweep(
     Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
-    from intrusim.analysis.sweep import sweep_omega
-    from intrusim.cli import _parse_rpm
+    from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.mpm.io import safe_child
     from intrusim.scenarios.mpm_settings import write_record
 
@@ -152,7 +151,7 @@ def sweep(
             )
         threads = max(1, cores // workers) if not serial else None
         case = _case(scenario, quick, out, settings, sets, threads)
-        omegas = _parse_rpm(omega_rpm)
+        omegas = omega_list(omega_rpm)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # the run folders' names, checked before any compute
             case.run_dir(w)

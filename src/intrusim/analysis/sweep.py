@@ -24,6 +24,30 @@ from intrusim.errors import PROGRAMMING_ERRORS
 
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
+MAX_POINTS = 10_000  # omegas of one sweep
+
+
+def omega_list(text: str) -> list[float]:
+    """'10,30,90' or 'start:stop:step' (inclusive stop) -> RPM list of finite numbers."""
+    try:
+        if ":" in text:
+            a, b, c = (float(x) for x in text.split(":"))
+            if not all(math.isfinite(x) for x in (a, b, c)) or c <= 0 or b < a:
+                raise InputError(
+                    f"omega range start:stop:step needs finite numbers, step > 0 and stop >= start, got {text!r}"
+                )
+            if (b - a) / c + 1 > MAX_POINTS:
+                raise InputError(f"omega range {text!r} has {(b - a) / c + 1:.3g} points, more than {MAX_POINTS}")
+            return [float(w) for w in np.arange(a, b + 0.5 * c, c)]
+        out = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError as err:
+        if isinstance(err, InputError):
+            raise
+        raise InputError(f"omega list must be 'a,b,c' or 'start:stop:step' (RPM), got {text!r}") from None
+    if not all(math.isfinite(w) for w in out):
+        raise InputError(f"omega list must hold finite numbers, got {text!r}")
+    return out
+
 
 def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -> dict[str, Any]:
     """One steady state as a flat record; failures of the point (bad input, a guard, no contact, a
