@@ -249,6 +249,30 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
 
 
 @app.command()
+def status(
+    figures: Path = typer.Option(Path("docs/figures"), help="Folder of the figures' CSVs (NAME_vs_mpm.csv)."),
+    write: Optional[Path] = typer.Option(
+        None, help="Markdown file whose status block (<!-- status table: begin/end -->) is replaced by the table."
+    ),
+) -> None:
+    """The models against MPM, summed up from the figures' CSVs (fig5ab, fig7bc, figs1 with --mpm)."""
+    from intrusim.figures.status import status_table, write_status
+
+    if not figures.is_dir():
+        _fail(InputError(f"--figures {figures} is not a folder"))
+    if write is None:
+        typer.echo("\n".join(status_table(figures)))
+        return
+    if not write.is_file():
+        _fail(InputError(f"--write {write} is not a file"))
+    try:
+        write_status(write, figures)
+    except ValueError as err:
+        _fail(InputError(str(err)))
+    typer.echo(f"wrote the status table of {write}")
+
+
+@app.command()
 def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
     mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
