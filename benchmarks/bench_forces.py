@@ -4,14 +4,18 @@ Compares, in the same run, the compiled force model (Numba) with
   (a) a plain per-element Python/NumPy loop (the baseline the issue asks for), and
   (b) the vectorised NumPy path built from the pure laws (ResistiveForceModel.wrench_numpy).
 Prints microseconds per call and ratios. Run: python benchmarks/bench_forces.py
+[--write docs/performance.md]: ``--write`` also replaces that file's table between the markers
+``<!-- bench_forces: begin -->`` / ``<!-- bench_forces: end -->`` with the one just measured.
 """
 
 from __future__ import annotations
 
+import argparse
 import math
 import time
 
 import numpy as np
+from _doc_tables import check_markers, machine_line, write_between
 
 from intrusim.forces import make_force_model
 from intrusim.geometry import grousered_wheel
@@ -67,6 +71,15 @@ def per_call_us(fn, repeats: int, rounds: int = 5) -> float:
 
 
 def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--write", type=str, default=None, help="replace this markdown file's bench_forces table")
+    a = ap.parse_args()
+    if a.write is not None:
+        check_markers(a.write, "bench_forces")  # before measuring
+    doc = [
+        "| wheel | elements | compiled (Numba) | vectorised NumPy | per-element loop (baseline) | loop / compiled |",
+        "|---|---|---|---|---|---|",
+    ]
     state = BodyState(0.0, 0.085, 0.1, 0.25, 0.0, -2 * np.pi)
     print(
         f"{'wheel':>28} | {'elements':>8} | {'compiled us':>11} | {'tuple us':>8} | {'numpy-vec us':>12} | {'loop us':>9} | {'loop/compiled':>13}"
@@ -87,7 +100,14 @@ def main() -> None:
         print(
             f"{label:>28} | {len(wheel.elements):8d} | {t_obj:11.2f} | {t_tup:8.2f} | {t_vec:12.1f} | {t_loop:9.0f} | {t_loop / t_obj:12.0f}x"
         )
+        name = f"{grousers} grousers" + (" (Table S1)" if grousers == 20 else "")
+        doc.append(
+            f"| {name} | {len(wheel.elements)} | {t_obj:.1f} us | {t_vec:.0f} us | {t_loop:.0f} us | {t_loop / t_obj:.0f}x |"
+        )
     print("target: < 20 us per full force + moment evaluation (compiled column)")
+    if a.write is not None:
+        write_between(a.write, "bench_forces", ["", *doc, "", machine_line(), ""])
+        print(f"wrote the table into {a.write}")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,9 @@
 """Locomotion benchmark: one wheel steady state and a 9-point omega sweep, vs an explicit NumPy baseline.
 
-Run:  python benchmarks/bench_locomotion.py [--repeat N]
+Run:  python benchmarks/bench_locomotion.py [--repeat N] [--write docs/performance.md]
+
+``--write`` also replaces that file's table between the markers ``<!-- bench_locomotion: begin -->``
+/ ``<!-- bench_locomotion: end -->`` with the one just measured.
 
 * "implicit, compiled loop": the package path, run_steady / sweep_omega(parallel=False) on ONE
   core: backward Euler + modified Newton, dt = min(10 ms, revolution / 100), the whole step loop
@@ -28,6 +31,7 @@ import platform
 import time
 
 import numpy as np
+from _doc_tables import check_markers, machine_line, write_between
 
 from intrusim.analysis.steady import run_steady, steady_state
 from intrusim.analysis.sweep import sweep_omega
@@ -53,7 +57,10 @@ def main() -> None:
     ap.add_argument("--kind", default="drft")
     ap.add_argument("--omega-rpm", type=float, default=30.0)
     ap.add_argument("--bulldozing", type=float, default=0.0, help="also time the steady state with this k_b")
+    ap.add_argument("--write", type=str, default=None, help="replace this markdown file's bench_locomotion table")
     a = ap.parse_args()
+    if a.write is not None:
+        check_markers(a.write, "bench_locomotion")  # before measuring
     wheel = get_scenario("wheel")
     run_steady(wheel, a.kind, 10.0)  # warm-up: load the compiled kernel
 
@@ -108,6 +115,26 @@ def main() -> None:
     print(f"of one steady state: integrator (simulate) {t_int * 1e3:.2f} ms, set-up + steady-state analysis "
           f"{(t_one - t_int) * 1e3:.2f} ms")  # fmt: skip
     print(f"9-point sweep: {t_sweep:.3f} s serial (target < 1 s); NumPy baseline per steady state {t_base:.2f} s")
+    if a.write is not None:
+        doc = [
+            "",
+            f"Table S1 wheel, {a.kind.upper()}, {a.omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:g} ms "
+            f"({n_steps_one} steps, {sim_one:g} s simulated), one core, best of {a.repeat}:",
+            "",
+            "| case | wall s | simulated / wall time | vs NumPy baseline |",
+            "|---|---|---|---|",
+            f"| one steady state, compiled step loop (`intrusim._implicit_jit`) | {t_one:.4f} | {sim_one / t_one:.0f}x "
+            f"| {t_base / t_one:.0f}x faster |",
+            f"| one steady state, Python reference loop | {t_py:.3f} | {sim_one / t_py:.0f}x | {t_base / t_py:.0f}x faster |",
+            f"| 9-point sweep 10-90 RPM, serial, compiled | {t_sweep:.3f} | {sim_sweep / t_sweep:.0f}x | |",
+            f"| one steady state, explicit Euler NumPy baseline (dt {BASELINE_DT * 1e3:g} ms, `wrench_numpy`) "
+            f"| {t_base:.2f} | {sim_one / t_base:.1f}x | 1 |",
+            "",
+            machine_line(),
+            "",
+        ]
+        write_between(a.write, "bench_locomotion", doc)
+        print(f"wrote the table into {a.write}")
     if a.bulldozing > 0.0:
         from intrusim.analysis.calibration import with_parameters
 

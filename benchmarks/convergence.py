@@ -40,6 +40,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _doc_tables import markers, write_between
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "runs" / "convergence" / "results.json"
@@ -321,9 +322,8 @@ TITLES = {
 
 def write_doc(path: Path, results: dict) -> None:
     """Replace the generated tables of ``path`` (between the markers) with the current ones."""
-    begin, end = "<!-- convergence table: begin -->", "<!-- convergence table: end -->"
     variants = sorted({k.split("|", 3)[3] for k in results}, key=lambda v: (v != "default", v))
-    body = [begin]
+    body: list[str] = []
     for v in variants:
         title = TITLES.get(
             v,
@@ -341,11 +341,11 @@ def write_doc(path: Path, results: dict) -> None:
             + ")",
         )
         body += ["", f"{title}:", ""] + table(results, v, every_case=v == "default")
-    body += ["", end]
-    text = path.read_text() if path.exists() else f"# Convergence\n\n{begin}\n{end}\n"
-    head, rest = text.split(begin, 1)
-    tail = rest.split(end, 1)[1]
-    path.write_text(head + "\n".join(body) + tail)
+    body += [""]
+    if not path.exists():
+        begin, end = markers("convergence table")
+        path.write_text(f"# Convergence\n\n{begin}\n{end}\n")
+    write_between(path, "convergence table", body)
 
 
 def main() -> None:
