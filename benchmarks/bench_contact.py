@@ -8,11 +8,15 @@ process, best round each:
 * ``band``: the band contact (1 cell) with the default transfer,
 * ``former``: the band contact (1 cell) with APIC (``flip = 0``), the defaults before these two.
 
-    python benchmarks/bench_contact.py --threads 2
+``--write docs/performance.md`` also replaces that file's ``bench_contact`` table (between its markers).
+
+    python benchmarks/bench_contact.py --threads 2 --write docs/performance.md
+
 """
 
 import argparse
 
+from _doc_tables import check_markers, machine_line, write_between
 from bench_mpm import alternate_rounds  # noqa: E402  (run from benchmarks/ or with it on sys.path)
 
 CASES = {"64k": ((1.0, 0.8), (200, 160), 0.4), "160k": ((1.0, 1.4), (200, 280), 1.0)}
@@ -23,13 +27,20 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--steps", type=int, default=40, help="steps per round")
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--write", default=None, help="replace this markdown file's bench_contact table")
     args = ap.parse_args()
+    if args.write is not None:
+        check_markers(args.write, "bench_contact")  # before measuring
     from intrusim.mpm.backend import ensure_initialized
     from intrusim.mpm.solver import Solver
     from intrusim.scenarios import grousered_wheel_scenario
     from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
 
     ensure_initialized("cpu", "f32", args.threads)
+    doc = [
+        "| bed | points | default (ms/step) | band contact | former defaults | default / band | default / former |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for label, (domain, cells, bed) in CASES.items():
         solvers = {}
         for name, contact, flip in (("default", "surface", None), ("band", "band", None), ("former", "band", 0.0)):
@@ -54,6 +65,13 @@ def main() -> None:
             f"{best['default'] / best['band']:.3f}, default / former {best['default'] / best['former']:.3f}",
             flush=True,
         )
+        doc.append(
+            f"| {label} | {n} | {best['default'] * 1e3:.2f} | {best['band'] * 1e3:.2f} | {best['former'] * 1e3:.2f} | "
+            f"{best['default'] / best['band']:.2f}x | {best['default'] / best['former']:.2f}x |"
+        )
+    if args.write is not None:
+        write_between(args.write, "bench_contact", ["", *doc, "", machine_line(), ""])
+        print(f"wrote the table into {args.write}")
 
 
 if __name__ == "__main__":
