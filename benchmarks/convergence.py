@@ -19,6 +19,9 @@ Cases (``--cases``):
 * ``wheel30``, ``wheel90``: the Table S1 grousered wheel at 30 and 90 RPM
   (``scenarios.mpm_locomotion.run_mpm_steady``, 2 s; window from 0.65 s): v and sinkage.
   Base cells 10 mm (the paper's 5 mm is the second level).
+* ``footing``: a rough rigid strip footing (``intrusim.mpm.footing.FootingCase``: B = 0.06 m, the
+  Table S1 material, grain-footing friction 5) pushed 0.1 B into the bed at 0.05 m/s: N_gamma =
+  q / (0.5 rho_c g B) over settlements s / B 0.02-0.04 and 0.04-0.08. Base cells 6 mm (10 across B).
 * ``plate``: plate drag (Fig 6 set-up, ``mpm.plate.PlateDragCase``) at 3 speeds x 3 depths: K and
   lambda of F = K |z| + lambda rho A v^2. Base cells 5 mm (2.5 mm is Fig 6's).
 
@@ -215,12 +218,36 @@ def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, f
     return {"K_N_per_m": K, "lambda": lam}
 
 
+FOOTING_WIDTH = 0.06  # m, B of intrusim.mpm.footing.FootingCase
+FOOTING_WINDOWS = ((0.02, 0.04), (0.04, 0.08))  # settlement s / B
+
+
+def footing(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+    from intrusim.mpm.footing import FootingCase, n_gamma_at
+    from intrusim.mpm.solver import Solver
+
+    case = FootingCase(
+        cells_across=round(FOOTING_WIDTH / h),
+        width=FOOTING_WIDTH,
+        cfl=cfl,
+        **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
+    )
+    cfg = case.config(**backend(threads))
+    if flip is not None or PIC_TIME is not None:
+        cfg = cfg.model_copy(update={"transfer": transfer(flip)})
+    solver = Solver(cfg)
+    rows = solver.run()
+    out = {f"N_gamma_sB_{a:g}_{b:g}": n_gamma_at(case, rows, (a, b)) for a, b in FOOTING_WINDOWS}
+    return {**out, "steps": float(solver.step_count), "points": float(solver.particles.n)}
+
+
 CASES = {  # name: (run, base cells h in m, the quantities of the table)
     "collapse": (collapse, 0.01, ("runout_m", "centre_m")),
     "silo": (silo, 0.005, tuple(f"W_D{w * 1e3:.0f}mm_kg_per_s_m" for w in SILO_WIDTHS) + ("exponent_b",)),
     "wheel30": (wheel(30.0), 0.01, ("v_m_per_s", "sinkage_m")),
     "wheel90": (wheel(90.0), 0.01, ("v_m_per_s", "sinkage_m")),
     "plate": (plate, 0.005, ("K_N_per_m", "lambda")),
+    "footing": (footing, FOOTING_WIDTH / 10, tuple(f"N_gamma_sB_{a:g}_{b:g}" for a, b in FOOTING_WINDOWS)),
 }
 
 

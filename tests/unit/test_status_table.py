@@ -35,6 +35,7 @@ def test_each_curve_is_summed_up_from_its_rows(figures):
     drft, rft = rows["DRFT"], rows["RFT"]
     assert drft["omegas"] == [10.0, 30.0, 90.0]
     assert drft["v_max"] == pytest.approx(0.20) and drft["v_median"] == pytest.approx(0.10)
+    assert rft["v_median"] == pytest.approx(0.075)  # of two: their mean
     assert drft["sinkage_max"] == pytest.approx(0.10)  # the missing point is left out of the largest
     assert drft["within"] == 1  # 30 RPM is off in v, 90 RPM has no sinkage: only 10 RPM counts
     assert rft["within"] == 2  # 15 % is within

@@ -14,6 +14,8 @@ import math
 from collections import defaultdict
 from pathlib import Path
 
+import numpy as np
+
 #: the figures whose CSVs hold model-against-MPM differences, in the page's order
 FIGURES_WITH_MPM = ("fig5ab", "fig7bc", "figs1")
 BEGIN, END = "<!-- status table: begin -->", "<!-- status table: end -->"
@@ -50,12 +52,16 @@ def curve_agreement(csv_path: Path, tolerance: float = TOLERANCE) -> list[dict]:
             "body": body,
             "omegas": omegas,
             "v_max": dv[-1] if dv else math.nan,
-            "v_median": dv[len(dv) // 2] if dv else math.nan,
+            "v_median": _median(dv),
             "sinkage_max": ds[-1] if ds else math.nan,
-            "sinkage_median": ds[len(ds) // 2] if ds else math.nan,
+            "sinkage_median": _median(ds),
             "within": within,
         })  # fmt: skip
     return out
+
+
+def _median(xs: list[float]) -> float:
+    return float(np.median(xs)) if xs else math.nan
 
 
 def _pct(x: float) -> str:
