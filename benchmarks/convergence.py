@@ -50,6 +50,9 @@ RESULTS = ROOT / "runs" / "convergence" / "results.json"
 CFL = (0.3, 0.15)  # dt and dt/2
 BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
 PIC_TIME: float | None = None  # transfer.pic_time of the runs (--pic-time); None: the config's default
+FLUIDITY: float | None = (
+    None  # grain diameter of the nonlocal fluidity (--fluidity, footing only); None: the paper's law
+)
 
 
 def transfer(flip: float | None):
@@ -223,6 +226,7 @@ FOOTING_WINDOWS = ((0.02, 0.04), (0.04, 0.08))  # settlement s / B
 
 
 def footing(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+    from intrusim.mpm.config import MPMConfig
     from intrusim.mpm.footing import FootingCase, n_gamma_at
     from intrusim.mpm.solver import Solver
 
@@ -232,9 +236,12 @@ def footing(h: float, cfl: float, threads: int, flip: float | None) -> dict[str,
         cfl=cfl,
         **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
     )
-    cfg = case.config(**backend(threads))
+    data = case.config(**backend(threads)).model_dump()
     if flip is not None or PIC_TIME is not None:
-        cfg = cfg.model_copy(update={"transfer": transfer(flip)})
+        data["transfer"] = transfer(flip).model_dump()
+    if FLUIDITY is not None:
+        data["material"]["fluidity"] = {"grain_diameter": FLUIDITY}
+    cfg = MPMConfig.model_validate(data)  # validated as a file is
     solver = Solver(cfg)
     rows = solver.run()
     out = {f"N_gamma_sB_{a:g}_{b:g}": n_gamma_at(case, rows, (a, b)) for a, b in FOOTING_WINDOWS}
@@ -255,6 +262,7 @@ CASES = {  # name: (run, base cells h in m, the quantities of the table)
 def key(case: str, h: float, cfl: float, flip: float | None) -> str:
     variant = ("default" if flip is None else f"flip={flip:g}") + ("" if BAND is None else f"|band={BAND:g}")
     variant += "" if PIC_TIME is None else f"|pic_time={PIC_TIME:g}"
+    variant += "" if FLUIDITY is None else f"|fluidity={FLUIDITY:g}"
     return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
 
 
@@ -398,6 +406,12 @@ def main() -> None:
         default=None,
         help="transfer.pic_time of the default transfer (collapse, silo, wheels; default: the config's)",
     )
+    ap.add_argument(
+        "--fluidity",
+        type=float,
+        default=None,
+        help="the nonlocal granular fluidity with this grain diameter (m) in place of the paper's law (footing only)",
+    )
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
     if (
@@ -407,8 +421,10 @@ def main() -> None:
         or (args.band is not None and args.band < 0)
     ):
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
-    global BAND, PIC_TIME
-    BAND, PIC_TIME = args.band, args.pic_time
+    global BAND, PIC_TIME, FLUIDITY
+    BAND, PIC_TIME, FLUIDITY = args.band, args.pic_time, args.fluidity
+    if FLUIDITY is not None and (set(args.cases) != {"footing"} or not FLUIDITY > 0):
+        sys.exit("--fluidity D needs D > 0 and --cases footing")
     results = run_cases(
         args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels, args.threads, args.flip
     )
