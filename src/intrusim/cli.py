@@ -211,17 +211,19 @@ def reproduce(
     run folder or sweep CSV under --runs recorded with other settings is refused.
     """
     from intrusim.figures import FIGURES
-    from intrusim.figures.mpm import case_settings
+    from intrusim.figures.mpm import applying_settings, check_figure_settings
     from intrusim.scenarios.mpm_settings import check_keys, parse_assignment, read_settings_file
 
     items = [] if settings is None else read_settings_file(settings)
     items += [parse_assignment(s) for s in sets]
-    check_keys(items)  # an unknown key is refused before any figure; the values with each scenario's settings
+    check_keys(items)  # an unknown key is refused before any figure
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
     if name is not None and (not name or Path(name).name != name):
         _fail(InputError(f"--name must be a plain file name stem, got {name!r}"))
-    with case_settings(items):
+    if items:  # and a bad value, over the base settings of the figure's MPM cases
+        check_figure_settings(figure, quick, items)
+    with applying_settings(items):
         if name is None:
             paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
         else:

@@ -138,9 +138,13 @@ def sweep(
 
     from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.mpm.io import safe_child
+    from intrusim.scenarios.mpm_locomotion import check_run
     from intrusim.scenarios.mpm_settings import write_record
 
     try:
+        omegas = omega_list(omega_rpm)  # before anything is made on disk
+        if not omegas:
+            raise InputError(f"--omega-rpm gives no angular velocity, got {omega_rpm!r}")
         cores = os.cpu_count() or 1
         if workers < 1:
             raise InputError(f"--workers must be >= 1, got {workers}")
@@ -151,10 +155,9 @@ def sweep(
             )
         threads = max(1, cores // workers) if not serial else None
         case = _case(scenario, quick, out, settings, sets, threads)
-        omegas = omega_list(omega_rpm)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
-        for w in omegas:  # the run folders' names, checked before any compute
-            case.run_dir(w)
+        for w in omegas:  # each point's run folder name and run (grid, steps, fit), checked before any compute
+            check_run(case.scenario, case.mpm, w, case.run_dir(w))
         out.mkdir(parents=True, exist_ok=True)
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
@@ -229,11 +232,13 @@ def collect(
         raise typer.Exit(2) from None
     res = SweepResult(names.pop(), "mpm", None, records, meta={"source": str(folder)})
     path = res.to_csv(out or folder / f"{res.scenario}_mpm_sweep.csv")
-    from intrusim.scenarios.mpm_settings import write_record
+    from intrusim.scenarios.mpm_settings import record_path, write_record
 
     recorded = {float(info["omega_rpm"]): info["settings"] for info in infos.values() if "settings" in info}
     if recorded:  # the runs' settings, which `reproduce` checks against the case a figure asks for
         write_record(path, res.scenario, recorded)
+    else:  # none recorded: a record of an earlier sweep beside this CSV is not true of it
+        record_path(path).unlink(missing_ok=True)
     typer.echo(res.table())
     typer.echo(f"wrote {path}")
 

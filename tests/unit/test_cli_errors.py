@@ -431,8 +431,19 @@ def test_5_version():
 # ---------------------------------------------------------------- 6. sweeps
 
 
-def test_6_mpm_sweep_exits_1_when_its_points_failed(tmp_path):
-    r = _run("mpm", "sweep", "--quick", "--serial", "--omega-rpm", "-10,-20", "--out", tmp_path)
+def test_6_mpm_sweep_exits_1_when_its_points_failed(tmp_path, monkeypatch):
+    # omegas no run can take are refused before any point runs (exit 2, no CSV) ...
+    _refused(_run("mpm", "sweep", "--quick", "--serial", "--omega-rpm", "-10,-20", "--out", tmp_path), "omega_rpm")
+    assert not (tmp_path / "grousered_wheel_mpm_sweep.csv").exists()
+    # ... points that fail as they run (here: a guard stops each run) are failed rows, exit 1
+    import intrusim.scenarios.mpm_locomotion as loco
+    from intrusim.mpm.diagnostics import SimulationError
+
+    def stopped(*args, **kwargs):
+        raise SimulationError("a guard stopped the run")
+
+    monkeypatch.setattr(loco, "run_mpm_steady", stopped)
+    r = _run("mpm", "sweep", "--quick", "--serial", "--omega-rpm", "10,20", "--out", tmp_path)
     assert r.exit_code == 1, r.output
     assert "2 of 2 points failed" in r.output and (tmp_path / "grousered_wheel_mpm_sweep.csv").exists()
 

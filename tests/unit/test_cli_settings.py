@@ -256,3 +256,131 @@ def test_reproduce_mpm_refuses_a_run_folder_of_other_settings_before_any_compute
     shorter = other.validated_copy(t_max=1.0)
     (folder / "locomotion.json").write_text(json.dumps({"settings": shorter.model_dump(mode="json")}))
     _refused(_run(*args), "differs in mu_s)")
+
+
+# ---------------------------------------------------------------- refused before compute (review fixes)
+
+
+@pytest.mark.parametrize(
+    "sets,words",
+    [
+        (["cells=5", "length=0.5"], ("cells", "5", "length")),
+        (["domain=[0,1]", "length=1"], ("domain.0", "0", "length")),
+        (["domain=[0,1]", "cell_size=0.1"], ("domain.0", "0", "cell_size")),
+        (["cells=[10]", "cell_size=0.1"], ("cells.1", "cell_size")),
+        (["domain=[1,inf]", "cell_size=0.1"], ("domain.1", "inf", "cell_size")),
+    ],
+)
+def test_a_derived_key_after_a_bad_field_names_the_field_not_an_internal_error(tmp_path, sets, words):
+    args = [a for s in sets for a in ("--set", s)]
+    _refused(_run("mpm", "steady", "--quick", "--out", tmp_path / "o", *args), *words)
+    assert not (tmp_path / "o").exists()
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(first=st.sampled_from(["domain", "cells", "domain.0", "cells.1"]), value=VALUES,
+       derived=st.sampled_from(["cell_size", "length"]), size=st.sampled_from([0.02, 0.5, 1.0]))  # fmt: skip
+def test_any_field_then_a_derived_key_is_valid_settings_or_an_input_error(first, value, derived, size):
+    """A derived key reads fields a --set before it may have made bad: an InputError, never another exception."""
+    from intrusim._checks import InputError
+    from intrusim.scenarios.mpm_settings import apply_settings
+
+    try:
+        s = apply_settings(quick_settings("wheel"), [(first, value), (derived, size)])
+    except InputError:
+        return
+    assert isinstance(s, MPMSettings)
+
+
+@pytest.mark.parametrize("cmd", ["steady", "sweep"])
+def test_an_unknown_precision_is_refused_before_compute(tmp_path, cmd):
+    from typing import get_args
+
+    from intrusim.mpm.backend import PRECISIONS
+    from intrusim.mpm.config import Precision
+
+    assert get_args(Precision) == PRECISIONS  # the settings take what the backend does
+    out = tmp_path / "o"
+    extra = ["--serial", "--omega-rpm", "30"] if cmd == "sweep" else []
+    _refused(_run("mpm", cmd, "--quick", *extra, "--out", out, "--set", "precision=f16"), "precision", "f16")
+    assert not out.exists()
+    assert _case("precision=f64").mpm.precision == "f64"
+
+
+def test_mpm_sweep_refuses_a_point_beyond_reach_before_any_point_runs_or_file_is_made(tmp_path, monkeypatch):
+    import intrusim.analysis.sweep as sweep_module
+
+    def no_sweep(*args, **kwargs):
+        raise AssertionError("a point ran")
+
+    monkeypatch.setattr(sweep_module, "sweep_omega", no_sweep)
+    out = tmp_path / "o"
+    args = ["mpm", "sweep", "--quick", "--serial", "--out", out]
+    _refused(_run(*args, "--omega-rpm", "30", "--set", "cell_size=1e-6"), "domain.cells", "cells")
+    _refused(_run(*args, "--omega-rpm", "30,60", "--set", "max_steps=10"), "time.max_steps")
+    _refused(_run(*args, "--omega-rpm", "30,0"), "omega_rpm", "0")
+    _refused(_run(*args, "--omega-rpm", ","), "--omega-rpm", "','")
+    assert not out.exists()
+
+
+def test_frames_every_is_a_difference_of_the_runs_settings():
+    """frames_every sets the chunks a run advances by (when the drop is sampled, the treadmill
+    shifts): a run recorded with another one is another case; the thread count is not."""
+    from intrusim.scenarios.mpm_settings import RUN_CONTROL, settings_differences
+
+    base = quick_settings("wheel")
+    assert "frames_every" not in RUN_CONTROL
+    recorded = base.validated_copy(frames_every=0.01).model_dump(mode="json")
+    assert settings_differences(recorded, base) == ["frames_every"]
+    assert settings_differences(base.validated_copy(cpu_threads=1).model_dump(mode="json"), base) == []
+
+
+def test_mpm_collect_removes_the_record_of_an_earlier_sweep_when_its_runs_record_none(tmp_path, monkeypatch):
+    import intrusim.analysis.sweep as sweep_module
+    import intrusim.scenarios.mpm_locomotion as loco
+    from intrusim.scenarios.mpm_settings import read_record, record_path, write_record
+
+    monkeypatch.setattr(loco, "load_result", lambda run, t_start=None: run)
+    monkeypatch.setattr(sweep_module, "steady_record", lambda w, st: {"omega_rpm": w, "ok": False, "error": "x"})
+    for w in (30, 60):  # runs written before settings were recorded
+        run = tmp_path / f"grousered_wheel_{w}rpm"
+        run.mkdir()
+        (run / "result.json").write_text("{}")
+        (run / "locomotion.json").write_text(json.dumps({"scenario": {"name": "grousered_wheel"}, "omega_rpm": w}))
+    csv_path = tmp_path / "grousered_wheel_mpm_sweep.csv"
+    write_record(csv_path, "grousered_wheel", {10.0: quick_settings("wheel")})  # an earlier sweep's
+    r = _run("mpm", "collect", tmp_path)
+    assert r.exit_code == 0, r.output
+    assert csv_path.exists() and not record_path(csv_path).exists() and read_record(csv_path) is None
+
+
+@pytest.mark.parametrize("figure,item", [("fig5ab", "flip=2"), ("fig7bc", "length=0.1"), ("fig4b", "t_max=nan")])
+def test_reproduce_refuses_a_bad_setting_value_before_any_curve_is_computed(tmp_path, monkeypatch, figure, item):
+    import intrusim.figures.rft as rft
+
+    def no_curves(*args, **kwargs):
+        raise AssertionError("a curve was computed")
+
+    monkeypatch.setattr(rft, "_curves", no_curves)
+    out = tmp_path / "fig"
+    args = ["reproduce", figure, "--quick", "--no-parallel", "--mpm", "--runs", tmp_path / "runs", "--out", out]
+    _refused(_run(*args, "--set", item), item.split("=")[0])
+    assert not out.exists() and not (tmp_path / "runs").exists()
+
+
+def test_the_slow_list_names_tests_that_exist():
+    """Each entry of tests/conftest.py's SLOW is a test file, or a test function in one."""
+    import importlib.util
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("_conftest", root / "tests" / "conftest.py")
+    conftest = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(conftest)
+    missing = []
+    for entry in conftest.SLOW:
+        path, _, test = entry.partition("::")
+        file = root / path
+        if not file.is_file() or (test and f"def {test}(" not in file.read_text()):
+            missing.append(entry)
+    assert not missing, missing

@@ -39,12 +39,26 @@ MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 
 
 # (key, value) settings applied over the quick or paper settings of every MPM case of a figure
-# (`intrusim reproduce --settings/--set`; :func:`case_settings`)
+# (`intrusim reproduce --settings/--set`; :func:`applying_settings`)
 _SETTINGS: list[tuple[str, Any]] = []
+
+# the bodies of each figure's MPM cases (their base settings: quick_settings / paper_settings);
+# a figure not named here draws none (its --set values are checked on the wheel's)
+FIGURE_BODIES: dict[str, tuple[str, ...]] = {
+    "fig3ab": ("wheel",), "fig3cd": ("wheel",), "fig5c": ("wheel",), "fig5d": ("wheel",),
+    "fig5ab": ("wheel",), "figs1": ("wheel",), "fig7bc": ("runner",),
+}  # fmt: skip
+
+
+def check_figure_settings(figure: str, quick: bool, items: list[tuple[str, Any]]) -> None:
+    """Refuse (InputError, naming the key and value) settings ``items`` that are not valid over the
+    quick or paper settings of figure ``figure``'s MPM cases, before any of the figure is computed."""
+    for body in FIGURE_BODIES.get(figure, ("wheel",)):
+        apply_settings(quick_settings(body) if quick else paper_settings(body), items)
 
 
 @contextmanager
-def case_settings(items: list[tuple[str, Any]]) -> Iterator[None]:
+def applying_settings(items: list[tuple[str, Any]]) -> Iterator[None]:
     """Within this block the figures' MPM cases take ``items`` (key, value) over their base settings
     (:func:`intrusim.scenarios.mpm_settings.apply_settings`)."""
     saved = list(_SETTINGS)

@@ -263,6 +263,7 @@ class TimeConfig(_Model):
 
 
 Shape = Literal["quadratic", "linear"]  # shape functions of the transfers (TransferConfig.shape)
+Precision = Literal["f32", "f64"]  # floating point of the fields (BackendConfig.precision; backend.PRECISIONS)
 SHAPES: tuple[str, ...] = get_args(Shape)
 
 
@@ -320,7 +321,7 @@ class OutputConfig(_Model):
 
 class BackendConfig(_Model):
     arch: Literal["cpu", "cuda", "vulkan", "metal", "gpu"] = "cpu"
-    precision: Literal["f32", "f64"] = "f32"
+    precision: Precision = "f32"
     cpu_threads: int | None = Field(None, ge=1)
     p2g_chunks: int = Field(
         16,

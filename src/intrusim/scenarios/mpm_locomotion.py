@@ -33,7 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
-from intrusim.mpm.config import FluidityConfig, MuIConfig, Shape
+from intrusim.mpm.config import FluidityConfig, MuIConfig, Precision, Shape
 from intrusim.mpm.io import atomic_file, atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
@@ -118,7 +118,7 @@ class MPMSettings(Config):
     contact: Literal["surface", "band"] = "surface"  # MPMConfig.contact
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
-    precision: str = "f32"
+    precision: Precision = "f32"  # the backend's: f32 or f64
     cpu_threads: int | None = Field(None, ge=1)
     keep_fields: int = Field(3, ge=0)
     frames_every: float | None = Field(None, gt=0.0)
@@ -349,27 +349,23 @@ def treadmill_shift(solver: Any, body: Any, treadmill: tuple[float, float] | Non
         solver.shift_window(math.floor((body.state.x - treadmill[1]) / solver.h) * solver.h)
 
 
-def run_mpm_steady(
-    scenario: LocomotorScenario,
-    settings: MPMSettings,
-    omega_rpm: float,
-    out_dir: str | Path | None = None,
-    progress: Callable[[dict], None] | None = None,
-) -> MPMSteadyState:
-    """Run one MPM locomotion case to steady state (see module docstring for the window)."""
-    from intrusim.mpm.solver import Solver
+def check_run(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: float, out_dir: str | Path | None = None):
+    """The :func:`mpm_config` of a run, refused (InputError) before any compute where the run
+    cannot be made: a body that does not fit, a grid or step count beyond reach
+    (:func:`~intrusim.validation.check_run_size`), no time to settle, a treadmill the body would
+    carry into a wall. ``mpm sweep`` checks each of its points with this before running any."""
+    from intrusim.mpm.solver import time_step_limits
+    from intrusim.validation import check_run_size
 
     cfg = mpm_config(scenario, settings, omega_rpm, out_dir)
+    limits = time_step_limits(cfg)
+    check_run_size(cfg, cfg.time.dt or min(limits["dt_elastic"], limits["dt_motion"]))
     s = settings
-    solver = Solver(cfg)
-    run_dir = None if out_dir is None else Path(out_dir)
-    body = solver.intruders[0]
-    outline = np.asarray(body.contact.vertices)
-    radius = float(np.max(np.linalg.norm(outline, axis=1)))
     t_avg = s.ramp_time + s.settle_time
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
     if s.treadmill is not None:  # the body's size: the settings' own validator does not know it
+        radius = float(np.max(np.linalg.norm(np.asarray(cfg.intruders[0].vertices), axis=1)))
         trigger, target = s.treadmill
         if trigger + radius > s.domain[0] - s.wall_margin:
             raise InputError(
@@ -380,6 +376,27 @@ def run_mpm_steady(
             raise InputError(
                 f"treadmill: the body (radius {radius:.3g} m) at x_target {target:g} m would touch the left wall"
             )
+    return cfg
+
+
+def run_mpm_steady(
+    scenario: LocomotorScenario,
+    settings: MPMSettings,
+    omega_rpm: float,
+    out_dir: str | Path | None = None,
+    progress: Callable[[dict], None] | None = None,
+) -> MPMSteadyState:
+    """Run one MPM locomotion case to steady state (see module docstring for the window)."""
+    from intrusim.mpm.solver import Solver
+
+    cfg = check_run(scenario, settings, omega_rpm, out_dir)
+    s = settings
+    solver = Solver(cfg)
+    run_dir = None if out_dir is None else Path(out_dir)
+    body = solver.intruders[0]
+    outline = np.asarray(body.contact.vertices)
+    radius = float(np.max(np.linalg.norm(outline, axis=1)))
+    t_avg = s.ramp_time + s.settle_time
     step_t = min(s.chunk, s.frames_every) if (s.frames_every and run_dir is not None) else s.chunk
     # a folder holding a run of another configuration is refused here, before anything is written
     drops, kept, wall_before = resume_run(solver, run_dir, s.keep_fields)  # nothing to resume: [], [], 0

@@ -35,7 +35,9 @@ DERIVED: dict[str, str] = {
 
 # settings that choose how a run is computed or saved, not what it computes: a recorded run that
 # differs from the case asked for only in these is the same case
-RUN_CONTROL = frozenset({"cpu_threads", "arch", "frames_every", "keep_fields", "max_steps"})
+# (frames_every is not one: it sets the chunks a run advances by, so when the rear drop is sampled,
+# the treadmill shifts and the stop tests)
+RUN_CONTROL = frozenset({"cpu_threads", "arch", "keep_fields", "max_steps"})
 
 
 def settings_keys() -> list[str]:
@@ -130,10 +132,8 @@ def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
     from intrusim.scenarios.mpm_locomotion import MPMSettings
 
     data = base.model_dump(mode="json")
-    given: list[str] = []
     for key, value in items:
         top = key.split(".", 1)[0]
-        given.append(top)
         if top in DERIVED:
             if key != top:
                 raise InputError(f"unknown setting {key!r}: {top} is a number, not a table")
@@ -159,12 +159,29 @@ def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
     return s
 
 
+def _fields_read(data: dict[str, Any], key: str, names: tuple[str, ...]) -> dict[str, Any]:
+    """The fields ``names`` of the settings' dict, validated (as fields of MPMSettings, the others
+    at their defaults) before the derived key ``key`` reads them: one set earlier to a bad value is
+    an InputError naming it, not an error of the arithmetic."""
+    from pydantic import ValidationError
+
+    from intrusim.scenarios.mpm_locomotion import MPMSettings
+
+    try:
+        checked = MPMSettings.model_validate({n: data[n] for n in names})
+    except ValidationError as err:
+        raise InputError(f"{validation_message(err)} (read by {key})") from None
+    return {n: getattr(checked, n) for n in names}
+
+
 def _derived(data: dict[str, Any], key: str, value: Any) -> None:
     """Apply one derived key (:data:`DERIVED`) to the settings' dict."""
-    domain, cells = data["domain"], data["cells"]
+    if key in ("cell_size", "length"):  # these read the grid: it must be valid settings first
+        grid = _fields_read(data, key, ("domain", "cells"))
+        domain, cells = grid["domain"], grid["cells"]
 
     def count(length: float, h: float) -> int:  # cells of one side
-        n = length / h
+        n = length / h if h > 0 else math.inf  # h of a tiny (subnormal) length over cells is 0
         if not math.isfinite(n):
             raise InputError(f"{key} = {value!r} gives a non-finite number of cells ({length:g} m / {h:g} m)")
         return max(1, round(n))
