@@ -1,7 +1,7 @@
 """Benchmark: one full force + moment evaluation of the grousered wheel (issue: < 20 us per call).
 
 Compares, in the same run, the compiled force model (Numba) with
-  (a) a plain per-element Python/NumPy loop (the baseline the issue asks for), and
+  (a) a plain per-element Python/NumPy loop (the baseline), and
   (b) the vectorised NumPy path built from the pure laws (ResistiveForceModel.wrench_numpy).
 Prints microseconds per call and ratios. Run: python benchmarks/bench_forces.py
 [--write docs/performance.md]: ``--write`` also replaces that file's table between the markers
