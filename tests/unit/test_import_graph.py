@@ -86,3 +86,17 @@ def test_the_graph_sees_relative_function_level_and_package_imports():
 def test_the_package_has_no_import_cycle():
     cycle = find_cycle(import_graph())
     assert cycle is None, "import cycle: " + " -> ".join(cycle)
+
+
+def test_private_taichi_apis_are_used_from_one_module():
+    """taichi.lang, taichi.graph._graph, taichi._lib (Taichi's internals) are used in mpm/_taichi_private.py only,
+    which refuses a Taichi outside the tested minor version."""
+    import re
+
+    private = re.compile(r"(from|import)\s+taichi\.(lang|graph\._|_lib)|\bti\.(lang|_lib)\b|\bti\.graph\._")
+    users = sorted(
+        str(p.relative_to(SRC))
+        for p in SRC.rglob("*.py")
+        if p.name != "_taichi_private.py" and private.search(p.read_text())
+    )
+    assert users == [], users

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import taichi as ti
 
+from ._taichi_private import current_cfg
+
 ARCHES = ("cpu", "cuda", "vulkan", "metal", "gpu")
 PRECISIONS = ("f32", "f64")
 
@@ -126,7 +128,7 @@ def unscalarized():
     run unscalarised must be compiled under this switch the first time (``step_graph`` does it). See
     ``transfer.g2p_kernel(..., lanes=True)``.
     """
-    cfg = ti.lang.impl.current_cfg()
+    cfg = current_cfg()
     before = cfg.real_matrix_scalarize
     cfg.real_matrix_scalarize = False
     try:
@@ -137,7 +139,7 @@ def unscalarized():
 
 def arch_in_use() -> str:
     """The backend Taichi runs on ("cpu", "cuda", "vulkan", "metal", ...), read from Taichi itself."""
-    arch = ti.lang.impl.current_cfg().arch
+    arch = current_cfg().arch
     return "cpu" if arch in (ti.x64, ti.arm64) else arch.name
 
 

@@ -18,11 +18,8 @@ from dataclasses import dataclass
 from typing import Any, Sequence
 
 import taichi as ti
-from taichi.graph._graph import gen_cpp_kernel
-from taichi.lang import impl
-from taichi.lang._ndarray import Ndarray
-from taichi.lang.matrix import Matrix, MatrixType
 
+from ._taichi_private import Matrix, MatrixType, Ndarray, gen_cpp_kernel, program
 from .backend import info, unscalarized
 
 
@@ -76,7 +73,7 @@ class StepGraph:
                 # a graph compiles its kernels at its first run, with the config of that moment, and
                 # looks them up by kernel and config; Taichi's key of a config leaves this option out,
                 # so the kernel compiled here, unscalarised, is the one the graph finds and runs
-                prog = impl.get_runtime().prog
+                prog = program()
                 with unscalarized():
                     prog.compile_kernel(prog.config(), prog.get_device_caps(), gen_cpp_kernel(launch.kernel, symbols))
             builder.dispatch(launch.kernel, *symbols)
