@@ -350,6 +350,8 @@ def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
 TITLES = {
     "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), contact at the body's surface",
     "default|band=1": "The default transfer with the 1-cell contact band (`--band 1`, the former default contact)",
+    "default|fluidity=0.003": "The defaults with the nonlocal granular fluidity, 3 mm grains, in place of the paper's law "
+    "(`--fluidity 3e-3`)",
     "default|grid_relax=0": "The defaults but the contact's grid part with the plain impulse m_p dv per point and sweep "
     "(8 sweeps; a design tried, not kept)",
     "default|grid_relax=1": "The defaults but the contact's grid part with full projected Gauss-Seidel steps, "
