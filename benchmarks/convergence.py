@@ -348,7 +348,8 @@ def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
 
 
 TITLES = {
-    "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), contact at the body's surface",
+    "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), contact at the body's surface "
+    "(its grid part projected Gauss-Seidel, half steps)",
     "default|band=1": "The default transfer with the 1-cell contact band (`--band 1`, the former default contact)",
     "default|fluidity=0.003": "The defaults with the nonlocal granular fluidity, 3 mm grains, in place of the paper's law "
     "(`--fluidity 3e-3`)",
