@@ -11,9 +11,9 @@ import warnings
 
 import numpy as np
 import pytest
+from cli_helpers import refused as _refused
+from cli_helpers import run as _run
 from typer.testing import CliRunner
-
-from intrusim.cli import app
 
 runner = CliRunner()
 
@@ -56,22 +56,6 @@ omega = -1.0
 mass_x = 1.0
 mass_z = 1.0
 """
-
-
-def _run(*args):
-    return runner.invoke(app, [str(a) for a in args])
-
-
-def _refused(r, *words):
-    """Exit 2, one error line naming ``words``, no traceback."""
-    out = r.output
-    assert r.exit_code == 2, out
-    assert "Traceback" not in out and isinstance(r.exception, SystemExit), out
-    errors = [line for line in out.splitlines() if line.startswith("error:")]
-    assert len(errors) == 1, out
-    for w in words:
-        assert w in errors[0], out
-    return errors[0]
 
 
 def _toml(tmp_path, text, name="c.toml"):

@@ -5,24 +5,14 @@ import json
 import re
 
 import pytest
+from cli_helpers import tiny_config
 from typer.testing import CliRunner
 
 from intrusim.cli import app
 
 runner = CliRunner()
 
-TINY = """
-[domain]
-size = [0.1, 0.1]
-cells = [10, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.1, z1 = 0.05 }]
-[time]
-t_end = 0.02
-[output]
-record_every = 0.005
-checkpoint_every = 0.01
-"""
+TINY = tiny_config(0.02)
 
 
 def _times(run_dir):

@@ -5,30 +5,16 @@ import json
 import math
 
 import pytest
+from cli_helpers import refused as _refused
+from cli_helpers import run as _run
+from cli_helpers import tiny_config
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from intrusim.cli import app
 from intrusim.scenarios.mpm_locomotion import MPMSettings, quick_settings
 
 runner = CliRunner()
-
-
-def _run(*args):
-    return runner.invoke(app, [str(a) for a in args])
-
-
-def _refused(r, *words):
-    """Exit 2, one error line naming ``words``, no traceback."""
-    out = r.output
-    assert r.exit_code == 2, out
-    assert "Traceback" not in out and isinstance(r.exception, SystemExit), out
-    errors = [line for line in out.splitlines() if line.startswith("error:")]
-    assert len(errors) == 1, out
-    for w in words:
-        assert w in errors[0], out
-    return errors[0]
 
 
 def _case(*sets, settings=None, scenario="wheel"):
@@ -153,18 +139,7 @@ def test_version_names_the_package():
         assert r.exit_code == 0 and r.output.strip() == f"intrusim {__version__}"
 
 
-TINY = """
-[domain]
-size = [0.1, 0.1]
-cells = [10, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.1, z1 = 0.05 }]
-[time]
-t_end = 0.01
-[output]
-record_every = 0.005
-checkpoint_every = 0.01
-"""
+TINY = tiny_config(0.01)
 
 
 def test_mpm_run_threads_sets_the_backend_and_a_bad_count_is_refused(tmp_path):
