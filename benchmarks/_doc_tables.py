@@ -15,32 +15,9 @@ import shlex
 import sys
 from pathlib import Path
 
+from intrusim._doc_markers import MarkerError, markers, replace_between  # noqa: F401 (the benchmarks' and tests' names)
+
 ROOT = Path(__file__).resolve().parents[1]
-
-
-class MarkerError(ValueError):
-    """The file does not hold exactly one ``<!-- NAME: begin -->`` ... ``<!-- NAME: end -->`` pair."""
-
-
-def markers(name: str) -> tuple[str, str]:
-    """The begin and end markers of the table ``name``."""
-    return f"<!-- {name}: begin -->", f"<!-- {name}: end -->"
-
-
-def replace_between(text: str, name: str, lines: list[str], where: str = "the text") -> str:
-    """``text`` with the lines between the markers of ``name`` replaced by ``lines`` (markers kept)."""
-    begin, end = markers(name)
-    n_begin, n_end = text.count(begin), text.count(end)
-    if n_begin != 1 or n_end != 1:
-        raise MarkerError(
-            f"{where} needs exactly one '{begin}' and one '{end}', each on a line of its own, around the "
-            f"generated table (found {n_begin} and {n_end}); add them where the table belongs"
-        )
-    head, rest = text.split(begin, 1)
-    if end not in rest:
-        raise MarkerError(f"{where}: '{end}' comes before '{begin}'")
-    tail = rest.split(end, 1)[1]
-    return head + "\n".join([begin, *lines, end]) + tail
 
 
 def check_markers(path: Path | str, name: str) -> str:

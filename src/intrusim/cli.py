@@ -212,10 +212,9 @@ def reproduce(
     """
     from intrusim.figures import FIGURES
     from intrusim.figures.mpm import applying_settings, check_figure_settings
-    from intrusim.scenarios.mpm_settings import check_keys, parse_assignment, read_settings_file
+    from intrusim.scenarios.mpm_settings import check_keys, settings_items
 
-    items = [] if settings is None else read_settings_file(settings)
-    items += [parse_assignment(s) for s in sets]
+    items = settings_items(settings, sets)
     check_keys(items)  # an unknown key is refused before any figure
     if figure not in FIGURES:
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))

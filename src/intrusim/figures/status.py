@@ -18,7 +18,7 @@ import numpy as np
 
 #: the figures whose CSVs hold model-against-MPM differences, in the page's order
 FIGURES_WITH_MPM = ("fig5ab", "fig7bc", "figs1")
-BEGIN, END = "<!-- status table: begin -->", "<!-- status table: end -->"
+BEGIN, END = "<!-- status table: begin -->", "<!-- status table: end -->"  # _doc_markers.markers("status table")
 TOLERANCE = 0.15  # the paper's claim: DRFT within 15 % of MPM
 
 
@@ -92,11 +92,9 @@ def status_table(figures_dir: Path, tolerance: float = TOLERANCE) -> list[str]:
 
 
 def write_status(doc: Path, figures_dir: Path, tolerance: float = TOLERANCE) -> None:
-    """Replace the lines between :data:`BEGIN` and :data:`END` in ``doc`` by :func:`status_table`."""
+    """Replace the lines between :data:`BEGIN` and :data:`END` in ``doc`` by :func:`status_table`
+    (a doc without exactly one such pair is refused: :class:`intrusim._doc_markers.MarkerError`)."""
+    from intrusim._doc_markers import replace_between
+
     text = Path(doc).read_text()
-    if BEGIN not in text or END not in text.split(BEGIN, 1)[1]:
-        raise ValueError(f"{doc} has no {BEGIN} ... {END} block")
-    head, rest = text.split(BEGIN, 1)
-    tail = rest.split(END, 1)[1]
-    body = "\n".join([BEGIN, *status_table(figures_dir, tolerance), END])
-    Path(doc).write_text(head + body + tail)
+    Path(doc).write_text(replace_between(text, "status table", status_table(figures_dir, tolerance), where=str(doc)))

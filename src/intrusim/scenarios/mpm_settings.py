@@ -60,16 +60,6 @@ def parse_assignment(item: str) -> tuple[str, Any]:
     return key, value
 
 
-def _flatten(data: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
-    out = []
-    for k, v in data.items():
-        if isinstance(v, dict):
-            out += _flatten(v, f"{prefix}{k}.")
-        else:
-            out.append((f"{prefix}{k}", v))
-    return out
-
-
 def read_settings_file(path: str | Path) -> list[tuple[str, Any]]:
     """The (key, value) pairs of a settings TOML file, tables as dotted keys (``[mu_i]`` then
     ``grain_diameter = 1e-3`` is ``mu_i.grain_diameter``)."""
@@ -77,11 +67,12 @@ def read_settings_file(path: str | Path) -> list[tuple[str, Any]]:
     if not p.is_file():
         raise InputError(f"--settings: no such file: {p}" if not p.exists() else f"--settings: {p} is not a file")
     try:
-        return _flatten(tomllib.loads(p.read_text()))
+        table = tomllib.loads(p.read_text())
     except UnicodeDecodeError:
         raise InputError(f"--settings {p}: not a text (TOML) file") from None
     except tomllib.TOMLDecodeError as err:
         raise InputError(f"--settings {p}: invalid TOML ({err})") from None
+    return [(k, v) for k, v in _flat(table).items() if v != {}]  # an empty table sets nothing
 
 
 def _number(key: str, value: Any, what: str, positive: bool = True) -> float:
@@ -131,6 +122,8 @@ def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
 
     from intrusim.scenarios.mpm_locomotion import MPMSettings
 
+    items = list(items)
+    check_keys(items)
     data = base.model_dump(mode="json")
     for key, value in items:
         top = key.split(".", 1)[0]
@@ -138,10 +131,8 @@ def apply_settings(base: Any, items: Iterable[tuple[str, Any]]) -> Any:
             if key != top:
                 raise InputError(f"unknown setting {key!r}: {top} is a number, not a table")
             _derived(data, key, value)
-        elif top in MPMSettings.model_fields:
-            _set_path(data, key, value)
         else:
-            raise InputError(f"unknown setting {key!r}; valid keys: {', '.join(settings_keys())}")
+            _set_path(data, key, value)
     try:
         s = MPMSettings.model_validate(data)
     except ValidationError as err:
@@ -200,14 +191,18 @@ def _derived(data: dict[str, Any], key: str, value: Any) -> None:
         data["fluidity"] = {"grain_diameter": _number(key, value, "m")}
 
 
+def settings_items(settings_file: str | Path | None = None, sets: Iterable[str] = ()) -> list[tuple[str, Any]]:
+    """The (key, value) pairs of a command's ``--settings`` file, then of each ``--set key=value``, in order."""
+    items = [] if settings_file is None else read_settings_file(settings_file)
+    return items + [parse_assignment(s) for s in sets]
+
+
 def case_settings(body: str, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = ()) -> Any:
     """The MPMSettings of a command: the quick or paper base of ``body``, then the settings file,
     then each ``key=value`` of ``sets`` in order."""
     from intrusim.scenarios.mpm_locomotion import paper_settings, quick_settings
 
-    items = [] if settings_file is None else read_settings_file(settings_file)
-    items += [parse_assignment(s) for s in sets]
-    return apply_settings(quick_settings(body) if quick else paper_settings(body), items)
+    return apply_settings(quick_settings(body) if quick else paper_settings(body), settings_items(settings_file, sets))
 
 
 # ---------------------------------------------------------------- the record of a sweep's settings
