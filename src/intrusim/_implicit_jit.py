@@ -3,11 +3,11 @@
 The same scheme as the Python loop of ``bodies.simulate`` (which stays the reference and the
 fallback for force models without a compiled form), step for step:
 
-* backward Euler on (vx, vz), positions from the new velocity, theta following the prescribed
-  omega ramp exactly;
+* BDF2 (``order`` 2, from the second step) or backward Euler on (vx, vz), positions by the same
+  formula from the new velocity, theta following the prescribed omega ramp exactly;
 * damped modified Newton with a 2 x 2 forward-difference Jacobian kept from step to step and
   refreshed on poor contraction; the same stall / ``force_tol_rel`` acceptance rule;
-* a failed step retried in 2, 4, ..., 2^max_halvings sub-steps;
+* a failed step retried in 2, 4, ..., 2^max_halvings backward-Euler sub-steps;
 * the same divergence checks (non-finite state, max_speed, max_depth).
 
 The force is that of the compiled RFT/DRFT kernel ``forces._wrench_kernel``, with the
@@ -28,6 +28,7 @@ import numpy as np
 
 from intrusim._traction import alpha_constants, element_force, fit_rows, surface_params
 from intrusim.forces import CHUNK, _pseudo_angle, _wrench_kernel
+from intrusim.kinematics import bdf2_base as bdf2_base_py
 from intrusim.laws.bulldozing import bulldozing_wrench
 from intrusim.laws.drft import MID_ANGLE_TIE
 
@@ -39,6 +40,9 @@ NOT_CONVERGED = 3  # Newton failed in every sub-step split (info = t_end, |G|, t
 STATE_NONFINITE = 4  # non-finite state (info[0] = t)
 TOO_FAST = 5  # info = t, speed
 TOO_DEEP = 6  # info = t, depth below the surface
+
+
+bdf2_base = numba.njit(cache=True)(bdf2_base_py)  # one copy: the Python loop calls bdf2_base_py
 
 
 @numba.njit(cache=True)
@@ -243,11 +247,26 @@ def _step_force(spec, frame, work, k, z, th, vx, vz, om):
 
 
 @numba.njit(cache=True)
+def _largest_element_force(spec, frame, work, k, z, vx, vz, om):
+    """``ResistiveForceModel.largest_element_force`` on a step's rotated elements: max |f| of one element, N."""
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    geo, n_g = frame[0], frame[1]
+    mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
+    thr = _contact_threshold(sz, mode, dh)
+    p_mid = _contact_arc_mid(geo, n_g, z, sz, mode, dh, fwd)
+    _element_forces(geo, n_g, work, z, vx, vz, om, sz, k, asc, lr, dh if mode >= 1 else 0.0, thr, p_mid)
+    big = 0.0
+    for q in range(n_g):
+        big = max(big, math.hypot(work[0, q], work[1, q]))
+    return big
+
+
+@numba.njit(cache=True)
 def _implicit_step(
     spec, x0, z0, th1, vx0, vz0, om1, dt, ax_ext, az_ext, inv_mx, inv_mz,
     max_iter, velocity_tol, fd_step, stall_iter, contraction, max_backtrack, g_tol, jac, has_jac, geo, lead, work, k, v_slack,
 ):  # fmt: skip
-    """One backward-Euler step, as ``bodies._implicit_step``.
+    """One implicit step from the base state, as ``bodies._implicit_step`` (BDF2 passes its base and (2/3) dt).
 
     Returns (status, vx1, vz1, fx, fz, moment, iterations, best |G|); ``jac`` (4,) and
     ``has_jac`` (1,) are updated in place; ``geo``, ``lead``, ``work``: work arrays of
@@ -315,6 +334,11 @@ def _implicit_step(
             return OK, b_vx, b_vz, b_fx, b_fz, b_m, it, b_norm
     if b_norm <= g_tol:
         return OK, b_vx, b_vz, b_fx, b_fz, b_m, max_iter, b_norm
+    # the law's resolution: one element's force (bodies._implicit_step)
+    if b_norm <= dt * max(inv_mx, inv_mz) * _largest_element_force(
+        spec, frame, work, k, z0 + dt * b_vz, b_vx, b_vz, om1
+    ):
+        return OK, b_vx, b_vz, b_fx, b_fz, b_m, max_iter, b_norm
     return NOT_CONVERGED, vx, vz, fx, fz, m, max_iter, b_norm
 
 
@@ -322,10 +346,13 @@ def _implicit_step(
 def simulate_implicit(
     spec, w_target, ramp, t_start, dt, n, x, z, th0, vx, vz, ax_ext, az_ext, inv_mx, inv_mz,
     max_iter, velocity_tol, fd_step, stall_iter, contraction, max_backtrack, max_halvings, g_rate,
-    max_speed, max_depth, surface, out, iters, info,
+    max_speed, max_depth, surface, out, iters, info, order, xm, zm, vxm, vzm,
 ):  # fmt: skip
     """Fill ``out`` (9, n + 1: x, z, theta, vx, vz, omega, fx, fz, moment) and ``iters`` (n + 1,).
 
+    ``order`` 2: BDF2 (``bdf2_base``) from the second step, or from the first when (xm, zm, vxm, vzm),
+    the state one step before the start, is given (not NaN); backward Euler in a first step without
+    it and in the sub-steps of a step whose Newton iteration failed; ``order`` 1: backward Euler.
     Returns (status, step index); on failure ``info`` holds the numbers of the message.
     """
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
@@ -346,6 +373,7 @@ def simulate_implicit(
     work = np.empty((3, mid.shape[0]))
     fit = alpha_constants(coef)
     v_slack = V_SLACK
+    has_back = not math.isnan(xm)  # the state one step back (BDF2)
     for i in range(1, n + 1):
         ti = t_start + i * dt
         tprev = t_start + (i - 1) * dt
@@ -354,7 +382,29 @@ def simulate_implicit(
         done = False
         total = 0
         l_norm, l_tol, l_t, l_h = 0.0, 0.0, 0.0, 0.0
+        if order == 2 and has_back:
+            xb, zb, vxb, vzb, c = bdf2_base(x, z, vx, vz, xm, zm, vxm, vzm)
+            st, vx1, vz1, sfx, sfz, sm, it, bn = _implicit_step(
+                spec, xb, zb, th1, vxb, vzb, om1, c * dt, ax_ext, az_ext, inv_mx, inv_mz, max_iter, velocity_tol,
+                fd_step, stall_iter, contraction, max_backtrack, g_rate * c * dt, jac, has_jac, geo, lead, work, fit,
+                v_slack,
+            )  # fmt: skip
+            if st == SINGULAR or st == NEWTON_NONFINITE:
+                info[0] = ti
+                return st, i
+            if st == OK:
+                v_slack = V_SLACK + 1.5 * max(abs(vx1 - vx), abs(vz1 - vz))
+                xm, zm, vxm, vzm = x, z, vx, vz
+                x, z, vx, vz = xb + c * dt * vx1, zb + c * dt * vz1, vx1, vz1
+                has_back = True
+                fx, fz, m = sfx, sfz, sm
+                done = True
+                total = it
+            else:
+                has_jac[0] = 0  # then backward Euler, in sub-steps if need be
         for halvings in range(max_halvings + 1):
+            if done:
+                break
             k = 2**halvings
             h = dt / k
             xs, zs, vxs, vzs, total = x, z, vx, vz, 0
@@ -378,7 +428,9 @@ def simulate_implicit(
                 fx, fz, m = sfx, sfz, sm
             if not failed:
                 v_slack = V_SLACK + 1.5 * max(abs(vxs - vx), abs(vzs - vz))  # for the next step's leading subset
+                xm, zm, vxm, vzm = x, z, vx, vz
                 x, z, vx, vz = xs, zs, vxs, vzs
+                has_back = True
                 done = True
                 break
             has_jac[0] = 0  # jac.clear()

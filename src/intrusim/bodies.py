@@ -11,16 +11,21 @@ taken as m_z g: the paper's rig has separate effective horizontal and vertical i
 23.0 kg and 6.3 kg for the wheel) and its vertical load is set by weights and pulleys, so the
 vertical inertia is also the mass that gravity acts on.
 
-Integrator ("implicit iterative scheme", paper, Methods): backward Euler on the velocity,
+Integrator ("implicit iterative scheme", paper, Methods): BDF2 (default, ``scheme="bdf2"``) or
+backward Euler (``scheme="implicit"``) on the velocity. Both solve, each step,
 
-    G(v) = v - v_n - dt M^-1 (F(x_n + dt v_x, z_n + dt v_z, theta_{n+1}, v, omega_{n+1}) + F_ext + W) = 0,
+    G(v) = v - v_b - c dt M^-1 (F(x_b + c dt v_x, z_b + c dt v_z, theta_{n+1}, v, omega_{n+1}) + F_ext + W) = 0,
 
-solved by a damped Newton iteration with a finite-difference 2 x 2 Jacobian dF/dv (which, through
-x = x_n + dt v, also carries dF/dz). theta follows the prescribed omega exactly (trapezoidal
-rule on the piecewise-linear ramp). RFT forces are stiff in depth and strongly damping in the
-velocity direction; backward Euler is unconditionally stable for that linearised system, so the
-time step is set by accuracy, not stability. A plain explicit Euler scheme is kept as the
-reference (and to show what instability looks like).
+backward Euler with the base state y_b = y_n and c = 1, BDF2 with y_b = (4 y_n - y_{n-1}) / 3 and
+c = 2/3 (y = x, z, vx, vz; the first step, and the sub-steps of a step whose Newton iteration
+failed, are backward Euler). G is solved by a damped Newton iteration with a finite-difference
+2 x 2 Jacobian dF/dv (which, through x = x_b + c dt v, also carries dF/dz). theta follows the
+prescribed omega exactly (trapezoidal rule on the piecewise-linear ramp). RFT forces are stiff in
+depth and strongly damping in the velocity direction; both schemes are A-stable for that
+linearised system, so the time step is set by accuracy, not stability. Backward Euler is first
+order: at the paper's ~100 steps a revolution it moves a four-flap runner's steady speed by up to
+1 % and its sinkage by up to 2.8 %; BDF2, second order, by up to 0.15 % and 0.8 % (docs/locomotion.md). A plain
+explicit Euler scheme is kept as the reference (and to show what instability looks like).
 
 The implicit scheme runs in a compiled (Numba) step loop (``intrusim._implicit_jit``) when the
 force model offers a compiled form (``compiled_spec()``: the RFT/DRFT models); the Python loop
@@ -44,9 +49,10 @@ from typing import Any, Callable, Literal
 import numpy as np
 
 from intrusim._checks import InputError, finite, non_negative, positive, positive_int
-from intrusim.kinematics import BodyState
+from intrusim.kinematics import BodyState, bdf2_base
 from intrusim.params import GRAVITY
 
+ElementBound = Callable[[float, float, float, float, float, float], float]  # the largest element force, N
 ForceFn = Callable[[float, float, float, float, float, float], tuple[float, float, float]]
 
 
@@ -121,6 +127,10 @@ class RigidBody:
         return self.mass_z * self.gravity
 
 
+SCHEMES = ("bdf2", "implicit", "explicit")
+IMPLICIT = ("bdf2", "implicit")  # the schemes solved by Newton (and run in the compiled loop)
+
+
 @dataclass(frozen=True)
 class IntegratorSettings:
     """Time-stepping controls.
@@ -128,7 +138,8 @@ class IntegratorSettings:
     Attributes
     ----------
     dt : float, s. Time step.
-    scheme : "implicit" (backward Euler + Newton, default) or "explicit" (forward Euler).
+    scheme : "bdf2" (BDF2 + Newton, second order; default), "implicit" (backward Euler + Newton,
+        first order) or "explicit" (forward Euler).
     max_iter : int. Newton iterations per step before giving up.
     velocity_tol : float, m/s. Newton stops when the velocity update is below this.
     fd_step : float, m/s. Finite-difference step of the Jacobian dF/dv.
@@ -151,7 +162,7 @@ class IntegratorSettings:
     """
 
     dt: float = 2e-3
-    scheme: Literal["implicit", "explicit"] = "implicit"
+    scheme: Literal["bdf2", "implicit", "explicit"] = "bdf2"
     max_iter: int = 40
     velocity_tol: float = 1e-7
     fd_step: float = 1e-6
@@ -166,8 +177,8 @@ class IntegratorSettings:
 
     def __post_init__(self) -> None:
         positive("dt", self.dt)
-        if self.scheme not in ("implicit", "explicit"):
-            raise InputError(f"scheme must be 'implicit' or 'explicit', got {self.scheme!r}")
+        if self.scheme not in SCHEMES:
+            raise InputError(f"scheme must be one of {list(SCHEMES)}, got {self.scheme!r}")
         positive_int("max_iter", self.max_iter)
         positive("velocity_tol", self.velocity_tol)
         positive("fd_step", self.fd_step)
@@ -234,7 +245,7 @@ def force_function(model: Any) -> ForceFn:
 def _implicit_advance(
     force: ForceFn, drive: Drive, th_base: float, x: float, z: float, vx: float, vz: float, t0: float, dt: float,
     ax_ext: float, az_ext: float, inv_mx: float, inv_mz: float, s: IntegratorSettings, g_tol_rate: float,
-    jac: list[float],
+    jac: list[float], bound: ElementBound | None = None,
 ) -> tuple[float, float, float, float, float, float, float, int]:  # fmt: skip
     """Advance by ``dt`` with backward Euler; if Newton fails, retry in 2, 4, ... equal sub-steps.
 
@@ -251,7 +262,7 @@ def _implicit_advance(
                 tj = t0 + j * h
                 vx1, vz1, fx, fz, m, it = _implicit_step(
                     force, xs, zs, th_base + drive.angle_at(tj), vxs, vzs, drive.omega_at(tj), h,
-                    ax_ext, az_ext, inv_mx, inv_mz, s, tj, g_tol_rate * h, jac,
+                    ax_ext, az_ext, inv_mx, inv_mz, s, tj, g_tol_rate * h, jac, bound,
                 )  # fmt: skip
                 xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
             return xs, zs, vxs, vzs, fx, fz, m, total
@@ -271,9 +282,10 @@ def _fail(msg: str, t: float, settings: IntegratorSettings) -> IntegratorError:
 def _implicit_step(
     force: ForceFn, x0: float, z0: float, th1: float, vx0: float, vz0: float, om1: float,
     dt: float, ax_ext: float, az_ext: float, inv_mx: float, inv_mz: float, s: IntegratorSettings, t: float,
-    g_tol: float, jac: list[float],
+    g_tol: float, jac: list[float], bound: ElementBound | None = None,
 ) -> tuple[float, float, float, float, float, int]:  # fmt: skip
-    """One backward-Euler step; returns (vx1, vz1, fx, fz, moment, iterations).
+    """One implicit step from the base state (x0, z0, vx0, vz0) of length dt; returns (vx1, vz1, fx, fz,
+    moment, iterations). Backward Euler as it stands; a BDF2 step passes its base state and (2/3) dt.
 
     Modified Newton: the finite-difference Jacobian ``jac`` = [j11, j12, j21, j22] of G is kept
     from step to step (updated in place) and recomputed only when an iteration contracts poorly.
@@ -330,6 +342,13 @@ def _implicit_step(
             return best[1], best[2], best[3], best[4], best[5], it
     if best[0] <= g_tol:
         return best[1], best[2], best[3], best[4], best[5], s.max_iter
+    # No root within the tolerance: one element switching on or off moves the force by that element's
+    # force, so an imbalance below the largest one is the law's own resolution (a flat face whose
+    # elements switch one after the other as its normal velocity crosses zero makes G a staircase).
+    if bound is not None and best[0] <= dt * max(inv_mx, inv_mz) * bound(
+        x0 + dt * best[1], z0 + dt * best[2], th1, best[1], best[2], om1
+    ):
+        return best[1], best[2], best[3], best[4], best[5], s.max_iter
     raise NewtonNotConverged(
         f"Newton iteration did not converge in {s.max_iter} iterations (|G| = {best[0]:.3g} m/s, "
         f"tolerance {g_tol:.3g} m/s) at t = {t:.4g} s with a step of {dt:g} s"
@@ -344,6 +363,7 @@ def simulate(
     duration: float,
     settings: IntegratorSettings | None = None,
     t0: float = 0.0,
+    previous: BodyState | None = None,
 ) -> Trajectory:
     """Integrate the driven body for ``duration`` seconds from ``initial`` at time ``t0``.
 
@@ -357,6 +377,9 @@ def simulate(
     duration : float, s.
     settings : time step and scheme.
     t0 : float, s. Start time (the drive's clock), to continue a run from its last state.
+    previous : the state one step (dt) before ``initial``, when continuing a run with the same dt
+        (``traj.state(-2)``): BDF2 then takes its first step from both, and the continued run is
+        the uninterrupted one's; without it the first step is backward Euler.
 
     Returns
     -------
@@ -368,10 +391,11 @@ def simulate(
     """
     s = settings or IntegratorSettings()
     duration = positive("duration", duration)
-    spec = _compiled_spec(model) if (s.scheme == "implicit" and s.compiled) else None
+    spec = _compiled_spec(model) if (s.scheme in IMPLICIT and s.compiled) else None
     if spec is not None:
-        return _simulate_compiled(spec, model, body, drive, initial, duration, s, t0)
+        return _simulate_compiled(spec, model, body, drive, initial, duration, s, t0, previous)
     force = force_function(model)
+    bound = getattr(model, "largest_element_force", None)  # the law's force resolution (see _implicit_step)
     dt = s.dt
     n = int(math.ceil(duration / dt - 1e-9))
     t0 = finite("t0", t0)
@@ -393,14 +417,32 @@ def simulate(
     for c, v in zip(cols, (x, z, th0, vx, vz, om, fx, fz, m)):
         c[0] = v
     jac: list[float] = []  # Newton Jacobian, reused across steps
+    # the state one step back (BDF2; none at the start of a run)
+    back = None if previous is None else (float(previous.x), float(previous.z), float(previous.vx), float(previous.vz))
     for i in range(1, n + 1):
         ti = float(t[i])
         om1 = drive.omega_at(ti)
         th1 = th0 + (drive.angle_at(ti) - angle0)
-        if s.scheme == "implicit":
-            x, z, vx, vz, fx, fz, m, it = _implicit_advance(
-                force, drive, th0 - angle0, x, z, vx, vz, float(t[i - 1]), dt, ax_ext, az_ext, inv_mx, inv_mz, s, g_rate, jac
-            )  # fmt: skip
+        if s.scheme in IMPLICIT:
+            now = (x, z, vx, vz)
+            step = None
+            if s.scheme == "bdf2" and back is not None:
+                xb, zb, vxb, vzb, c = bdf2_base(*now, *back)
+                try:
+                    vx1, vz1, fx, fz, m, it = _implicit_step(
+                        force, xb, zb, th1, vxb, vzb, om1, c * dt, ax_ext, az_ext, inv_mx, inv_mz, s, ti,
+                        g_rate * c * dt, jac, bound,
+                    )  # fmt: skip
+                    step = (xb + c * dt * vx1, zb + c * dt * vz1, vx1, vz1, fx, fz, m, it)
+                except NewtonNotConverged:
+                    jac.clear()  # then backward Euler, in sub-steps if need be
+            if step is None:
+                step = _implicit_advance(
+                    force, drive, th0 - angle0, x, z, vx, vz, float(t[i - 1]), dt, ax_ext, az_ext, inv_mx, inv_mz, s, g_rate,
+                    jac, bound,
+                )  # fmt: skip
+            back = now
+            x, z, vx, vz, fx, fz, m, it = step
         else:
             vx1 = vx + dt * (fx * inv_mx + ax_ext)
             vz1 = vz + dt * (fz * inv_mz + az_ext)
@@ -433,7 +475,7 @@ def _compiled_spec(model: Any) -> tuple | None:
 
 def _simulate_compiled(
     spec: tuple, model: Any, body: RigidBody, drive: Drive, initial: BodyState, duration: float,
-    s: IntegratorSettings, t0: float,
+    s: IntegratorSettings, t0: float, previous: BodyState | None,
 ) -> Trajectory:  # fmt: skip
     """The implicit scheme of :func:`simulate` in the compiled loop (``intrusim._implicit_jit``)."""
     import intrusim._implicit_jit as jit
@@ -455,7 +497,8 @@ def _simulate_compiled(
         float(initial.x), float(initial.z), float(initial.theta), float(initial.vx), float(initial.vz),
         ax_ext, az_ext, inv_mx, inv_mz, int(s.max_iter), float(s.velocity_tol), float(s.fd_step), int(s.stall_iter),
         float(s.contraction), int(s.max_backtrack), int(s.max_halvings), g_rate, float(s.max_speed),
-        float(s.max_depth), surface, out, iters, info,
+        float(s.max_depth), surface, out, iters, info, 2 if s.scheme == "bdf2" else 1,
+        *(np.nan,) * 4 if previous is None else (float(previous.x), float(previous.z), float(previous.vx), float(previous.vz)),
     )  # fmt: skip
     if status != jit.OK:
         raise _compiled_failure(status, info, s)

@@ -302,6 +302,13 @@ class ResistiveForceModel:
         t += np.where((depth < 0)[:, None], inertial_traction(motion.normal, motion.velocity, self.rho, self.lam), 0.0)
         return motion.position, t
 
+    def largest_element_force(self, x: float, z: float, theta: float, vx: float, vz: float, omega: float) -> float:
+        """The largest force magnitude of one element, N (NumPy path): how far the force jumps at most
+        where one element switches on or off, the resolution the integrator accepts a step's imbalance to."""
+        _, t = self.element_tractions(BodyState(x, z, theta, vx, vz, omega))
+        f = t * self.elements.area[:, None]
+        return float(np.max(np.hypot(f[:, 0], f[:, 1]), initial=0.0))
+
     def wrench_numpy(self, state: BodyState) -> Wrench:
         """Force and moment from the vectorised NumPy path (reference for the compiled one)."""
         motion = element_motion(self.elements, state)

@@ -65,3 +65,13 @@ def element_motion(elements: SurfaceElements, state: BodyState) -> ElementMotion
     position = offset + np.array([state.x, state.z])
     velocity = np.column_stack([state.vx - state.omega * offset[:, 1], state.vz + state.omega * offset[:, 0]])
     return ElementMotion(offset, position, normal, velocity)
+
+
+def bdf2_base(x, z, vx, vz, xm, zm, vxm, vzm):
+    """(x_b, z_b, vx_b, vz_b, c) of a BDF2 step from the state now (x, ...) and one step back (xm, ...).
+
+    BDF2, y_{n+1} = (4 y_n - y_{n-1}) / 3 + (2/3) dt f(y_{n+1}), is a backward-Euler step of length
+    c dt = (2/3) dt from the base state (4 y_n - y_{n-1}) / 3, so it takes the same Newton solve.
+    Plain Python: the compiled step loop (``intrusim._implicit_jit``) compiles this same function.
+    """
+    return (4.0 * x - xm) / 3.0, (4.0 * z - zm) / 3.0, (4.0 * vx - vxm) / 3.0, (4.0 * vz - vzm) / 3.0, 2.0 / 3.0

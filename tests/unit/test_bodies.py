@@ -44,6 +44,66 @@ def test_free_fall_first_order(scheme):
     assert errs[0] < 0.5 * g * 1e-2 * T * 1.01
 
 
+def test_free_fall_bdf2_second_order():
+    """BDF2 is exact for constant acceleration; only its first (backward-Euler) step errs, by g dt^2 / 2."""
+    g, T = 9.8, 1.0
+    errs = []
+    for dt in (1e-2, 5e-3):
+        tr = simulate(no_force, RigidBody(2.0, 3.0, gravity=g), Drive(0.0, 0.0), BodyState(z=10.0), T,
+                      IntegratorSettings(dt=dt, scheme="bdf2"))  # fmt: skip
+        errs.append(abs(tr.z[-1] - (10.0 - 0.5 * g * T**2)))
+        assert tr.vz[-1] == pytest.approx(-g * T, rel=1e-9)
+    assert errs[1] < 0.3 * errs[0]  # second order: halving dt quarters the error
+    assert errs[0] < g * 1e-2**2  # one first-order step's error, not T / dt of them
+
+
+def damped_spring(k=400.0, c=4.0):
+    """A smooth linear force F = -k (x, z) - c (vx, vz): a damped oscillator with a closed form."""
+
+    def f(x, z, th, vx, vz, om):
+        return -k * x - c * vx, -k * z - c * vz, 0.0
+
+    return f
+
+
+def oscillator_error(dt, scheme, T=1.0, k=400.0, c=4.0):
+    """|x(T) - exact| of the unit-mass damped oscillator x'' + c x' + k x = 0 from x = 0.01, v = 0."""
+    tr = simulate(damped_spring(k, c), RigidBody(1.0, 1.0, gravity=0.0), Drive(0.0, 0.0), BodyState(x=0.01), T,
+                  IntegratorSettings(dt=dt, scheme=scheme, velocity_tol=1e-12))  # fmt: skip
+    g, wd = 0.5 * c, math.sqrt(k - 0.25 * c * c)
+    exact = 0.01 * math.exp(-g * T) * (math.cos(wd * T) + g / wd * math.sin(wd * T))
+    return abs(tr.x[-1] - exact)
+
+
+@pytest.mark.parametrize("scheme, order", [("bdf2", 2), ("implicit", 1)])
+def test_order_of_accuracy_on_a_smooth_oscillator(scheme, order):
+    e1, e2, e3 = (oscillator_error(dt, scheme) for dt in (2e-3, 1e-3, 5e-4))
+    for coarse, fine in ((e1, e2), (e2, e3)):
+        assert math.log2(coarse / fine) == pytest.approx(order, abs=0.25)
+
+
+def test_bdf2_python_and_compiled_loops_take_the_same_steps():
+    from intrusim.scenarios import get_scenario
+
+    sc = get_scenario("wheel")
+    shape = sc.rft_shape()
+    model = sc.build_model("drft")
+    for scheme in ("bdf2", "implicit"):
+        runs = [
+            simulate(
+                model,
+                sc.rigid_body(),
+                sc.drive(60.0),
+                sc.initial_state(shape),
+                1.5,
+                IntegratorSettings(dt=0.005, scheme=scheme, compiled=compiled),
+            )  # fmt: skip
+            for compiled in (True, False)
+        ]
+        assert np.allclose(runs[0].vx, runs[1].vx, rtol=0, atol=1e-9)
+        assert np.allclose(runs[0].z, runs[1].z, rtol=0, atol=1e-9)
+
+
 def stiff_ground(k=1e6, c=1e6):
     """Hunt-Crossley penalty ground: F_z = -k z (1 + (c/k) v_z) for z < 0 (continuous at z = 0)."""
 
@@ -97,6 +157,6 @@ def test_continuation_equals_single_run():
     body, d, s = RigidBody(2.0, 1.0), Drive(-2.0, 0.5), IntegratorSettings(dt=1e-2)
     one = simulate(stiff_ground(1e4, 50.0), body, d, BodyState(z=0.05), 2.0, s)
     a = simulate(stiff_ground(1e4, 50.0), body, d, BodyState(z=0.05), 1.0, s)
-    b = simulate(stiff_ground(1e4, 50.0), body, d, a.state(-1), 1.0, s, t0=float(a.t[-1]))
+    b = simulate(stiff_ground(1e4, 50.0), body, d, a.state(-1), 1.0, s, t0=float(a.t[-1]), previous=a.state(-2))
     both = a.concatenate(b)
     assert np.allclose(both.t, one.t) and np.allclose(both.z, one.z, atol=1e-12) and np.allclose(both.theta, one.theta)
