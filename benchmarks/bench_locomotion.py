@@ -6,7 +6,7 @@ Run:  python benchmarks/bench_locomotion.py [--repeat N] [--write docs/performan
 / ``<!-- bench_locomotion: end -->`` with the one just measured.
 
 * "implicit, compiled loop": the package path, run_steady / sweep_omega(parallel=False) on ONE
-  core: backward Euler + modified Newton, dt = min(10 ms, revolution / 100), the whole step loop
+  core: BDF2 + modified Newton at the default step (``RunConfig.dt``), the whole step loop
   compiled (Numba, ``intrusim._implicit_jit``): the elements are rotated once per step and every
   force evaluation of the step's Newton iteration reuses them (same numbers as the force kernel).
 * "implicit, Python loop": the same scheme in the Python reference loop (run_steady(...,

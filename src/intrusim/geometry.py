@@ -107,12 +107,17 @@ class Shape:
     elements : SurfaceElements
     radius : float, m. Nominal radius (outer radius of a wheel, half-length of a plate),
         the r of slip = 1 - v / (r omega) and of the structural correction dh = r psi(r omega^2/g).
+    symmetry : int. Order of the rotational symmetry (the shape repeats every 2 pi / symmetry: the
+        lug count of a hub with lugs, the segment count of a polygonal circle; 1 for none). A turning
+        body's force repeats at that period, which the locomotion time step is chosen against
+        (:meth:`intrusim.scenarios.RunConfig.dt`).
     """
 
     name: str
     polygon: np.ndarray
     elements: SurfaceElements
     radius: float
+    symmetry: int = 1
 
     @property
     def width(self) -> float:
@@ -191,6 +196,7 @@ def hub_with_lugs(
         hit.polygon.copy(),
         SurfaceElements(e.midpoint.copy(), e.normal.copy(), e.length.copy(), e.width, e.tag.copy()),
         hit.radius,
+        hit.symmetry,
     )
 
 
@@ -268,7 +274,7 @@ def _hub_with_lugs(
         parts.append(_arc_elements(r, a0, a1, n_hub, width))
         arc = np.linspace(a0, a1, max(n_hub, 2) + 1)[1:-1]
         outline.extend(r * np.column_stack([np.cos(arc), np.sin(arc)]))
-    return Shape(name, np.array(outline), SurfaceElements.concatenate(parts), r + h)
+    return Shape(name, np.array(outline), SurfaceElements.concatenate(parts), r + h, n_lugs)
 
 
 _cached_hub_with_lugs = functools.lru_cache(maxsize=64, typed=True)(_hub_with_lugs)

@@ -5,8 +5,10 @@ cannot silently move the result.
 The paper's DRFT (rear half, lambda 1, psi the identity, the MPM's 4 N push) and one fitted
 coefficient k_b, against the five settled band-0 MPM runs of the Table S1 wheel (2.5 mm cells,
 10-60 RPM), then the same k_b on the small wheel's four 1.25 mm runs (no refitting).
-Recorded: k_b = 4.43; v within 7.3 % and sinkage within 17.9 % on the wheel; v within 9.7 % and
-sinkage within 22.7 % on the small wheel. Without the term the same DRFT is 66-166 % too fast.
+Recorded: k_b = 4.38; v within 9.2 % and sinkage within 17.9 % on the wheel; v within 6.0 % and
+sinkage within 23.4 % on the small wheel. Without the term the same DRFT is up to 166 % too fast.
+(Integrated with the former step, backward Euler at 100 steps a revolution, the same fit read 7.3 %
+in v: that step ran the bulldozing wheel 6 % fast at 60 RPM, towards the MPM's speed.)
 """
 
 from pathlib import Path
@@ -31,10 +33,10 @@ def test_one_bulldozing_coefficient_brings_the_paper_drft_to_the_settled_mpm_whe
     ref = load_reference(WHEEL, wheel.name)
     assert compare(wheel, ref).max_abs_rel_error_velocity > 0.6  # the paper's DRFT alone: far too fast
     res = calibrate(wheel, ref, ("bulldozing",), starts=1)
-    assert res.values["bulldozing"] == pytest.approx(4.43, rel=0.02)
-    assert res.comparison.max_abs_rel_error_velocity < 0.08
+    assert res.values["bulldozing"] == pytest.approx(4.38, rel=0.02)
+    assert res.comparison.max_abs_rel_error_velocity < 0.10
     assert res.comparison.max_abs_rel_error_sinkage < 0.19
     small = with_parameters(_paper_drft(small_wheel_scenario()), res.values)
     transfer = compare(small, load_reference(SMALL, small.name))
-    assert transfer.max_abs_rel_error_velocity < 0.11
+    assert transfer.max_abs_rel_error_velocity < 0.07
     assert transfer.max_abs_rel_error_sinkage < 0.24

@@ -231,8 +231,9 @@ def steady_state(traj: Trajectory, shape: Shape, revolutions: int, surface_z: fl
 
 
 def run_until_steady(
-    model: Any, shape: Shape, body: Any, drive: Any, initial: Any, run: Any, *, compiled: bool = True
-) -> SteadyState:
+    model: Any, shape: Shape, body: Any, drive: Any, initial: Any, run: Any, *, compiled: bool = True,
+    settings: IntegratorSettings | None = None,
+) -> SteadyState:  # fmt: skip
     """Simulate, then extend the run a few revolutions at a time until the window stops drifting.
 
     Parameters
@@ -242,15 +243,19 @@ def run_until_steady(
     run : RunConfig (ramp/settle time, averaging revolutions, dt, drift_tol, max_extensions).
     compiled : use the compiled step loop when the model has one (False: the Python reference
         loop; same scheme, same result, ~5x slower).
+    settings : the integrator's settings, in place of the default ones (BDF2 at
+        ``run.dt(omega, shape.symmetry)``; ``compiled`` is then ignored).
     """
-    settings = IntegratorSettings(dt=run.dt(drive.omega), compiled=compiled)
+    if settings is None:
+        settings = IntegratorSettings(dt=run.dt(drive.omega, getattr(shape, "symmetry", 1)), compiled=compiled)
     surface = getattr(model, "surface_z", 0.0)
     traj = simulate(model, body, drive, initial, run.duration(drive.omega), settings)
     st = steady_state(traj, shape, run.average_revolutions, surface)
     extensions = 0
     while st.drift > run.drift_tol and extensions < run.max_extensions:  # running means still drifting
         more = simulate(
-            model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings, t0=float(traj.t[-1])
+            model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings,
+            t0=float(traj.t[-1]), previous=traj.state(-2),
         )  # fmt: skip
         traj = traj.concatenate(more)
         st = steady_state(traj, shape, run.average_revolutions, surface)

@@ -1,0 +1,60 @@
+"""The default locomotion time step against the dt -> 0 answer, and steps the Newton iteration must not refuse.
+
+The reference is the same run at 1/16 of the default step, averaged over 8 revolutions
+(benchmarks/bench_integrator.py tabulates every body and omega).
+"""
+
+import pytest
+
+from intrusim.analysis.steady import run_steady, run_until_steady
+from intrusim.bodies import IntegratorSettings
+from intrusim.scenarios import get_scenario
+
+
+def refined(scenario, st, factor=16):
+    """``scenario`` with ``factor`` x finer steps than the steady state ``st`` took, over 8 revolutions."""
+    dt = st.meta["dt"]
+    steps = round(factor * scenario.run.period(st.omega) / dt)
+    return scenario.model_copy(
+        update={
+            "run": scenario.run.model_copy(
+                update={"steps_per_revolution": steps, "dt_max": dt / factor, "average_revolutions": 8}
+            )
+        }
+    )
+
+
+@pytest.mark.parametrize("name, rpm", [("wheel", 90.0), ("wheel", 30.0), ("runner", 30.0), ("runner", 90.0)])
+def test_default_step_within_0_2_percent_of_dt_to_zero(name, rpm):
+    sc = get_scenario(name)
+    lam = 4.0 if name == "runner" else None
+    st = run_steady(sc, "drft", rpm, lam)
+    ref = run_steady(refined(sc, st), "drft", rpm, lam)
+    assert st.velocity == pytest.approx(ref.velocity, rel=2e-3)
+    assert st.sinkage == pytest.approx(ref.sinkage, rel=2e-3)
+
+
+def test_former_default_step_was_phase_locked():
+    """Backward Euler at 100 steps a revolution (5 per grouser pitch): the wheel 1.6 % slow at 90 RPM."""
+    sc = get_scenario("wheel")
+    shape, drive = sc.rft_shape(), sc.drive(90.0)
+    old = run_until_steady(
+        sc.build_model("drft"), shape, sc.rigid_body(), drive, sc.initial_state(shape), sc.run,
+        settings=IntegratorSettings(dt=sc.run.period(drive.omega) / 100, scheme="implicit"),
+    )  # fmt: skip
+    ref = run_steady(refined(sc, run_steady(sc, "drft", 90.0)), "drft", 90.0)
+    assert old.velocity < ref.velocity * (1 - 1e-2)
+
+
+@pytest.mark.parametrize("steps", [3200, 12800])
+def test_fine_steps_through_a_flat_face_staircase(steps):
+    """A flap face whose elements switch one after the other leaves G no root at most fine steps;
+    the step is accepted within one element's force (both loops), where it used to fail."""
+    sc = get_scenario("runner")
+    fine = sc.model_copy(update={"run": sc.run.model_copy(update={"steps_per_revolution": steps})})
+    st = run_steady(fine, "drft", 30.0)
+    ref = run_steady(sc, "drft", 30.0)
+    assert st.sinkage == pytest.approx(ref.sinkage, rel=2e-3)
+    if steps == 3200:
+        py = run_steady(fine, "drft", 30.0, compiled=False)
+        assert py.velocity == st.velocity and py.sinkage == st.sinkage
