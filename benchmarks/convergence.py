@@ -51,7 +51,7 @@ CFL = (0.3, 0.15)  # dt and dt/2
 BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
 PIC_TIME: float | None = None  # transfer.pic_time of the runs (--pic-time); None: the config's default
 FLUIDITY: float | None = (
-    None  # grain diameter of the nonlocal fluidity (--fluidity, footing only); None: the paper's law
+    None  # grain diameter of the nonlocal fluidity (--fluidity; footing, wheels); None: the paper's law
 )
 
 
@@ -182,6 +182,7 @@ def wheel(rpm: float):
             flip=flip,
             **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
             **({} if PIC_TIME is None else {"pic_time": PIC_TIME}),
+            **({} if FLUIDITY is None else {"fluidity": {"grain_diameter": FLUIDITY}}),
         )
         st = run_mpm_steady(grousered_wheel_scenario(), settings, rpm)
         return {
@@ -417,7 +418,7 @@ def main() -> None:
         "--fluidity",
         type=float,
         default=None,
-        help="the nonlocal granular fluidity with this grain diameter (m) in place of the paper's law (footing only)",
+        help="the nonlocal granular fluidity with this grain diameter (m) in place of the paper's law (footing, wheels)",
     )
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
@@ -430,8 +431,8 @@ def main() -> None:
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
     global BAND, PIC_TIME, FLUIDITY
     BAND, PIC_TIME, FLUIDITY = args.band, args.pic_time, args.fluidity
-    if FLUIDITY is not None and (set(args.cases) != {"footing"} or not FLUIDITY > 0):
-        sys.exit("--fluidity D needs D > 0 and --cases footing")
+    if FLUIDITY is not None and (not set(args.cases) <= {"footing", "wheel30", "wheel90"} or not FLUIDITY > 0):
+        sys.exit("--fluidity D needs D > 0 and --cases among footing, wheel30, wheel90")
     results = run_cases(
         args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels, args.threads, args.flip
     )
