@@ -39,10 +39,8 @@ BODIES = {
 
 def bulldozing_wheel(k_b: float):
     """The calibrated body-level bulldozing variant of the Table S1 wheel (tests/regression/test_bulldozing_calibration.py):
-    the paper's DRFT (rear half), the MPM runs' forward push and the bulldozing coefficient k_b."""
-    wheel = grousered_wheel_scenario()
-    fm = wheel.force_model.model_copy(update=dict(structural="wheel-rear-half"))
-    return with_parameters(with_mpm_push(wheel.model_copy(update=dict(force_model=fm))), {"bulldozing": k_b})
+    the paper's DRFT (the shipped wheel's rear-half structural correction), the MPM runs' forward push and k_b."""
+    return with_parameters(with_mpm_push(grousered_wheel_scenario()), {"bulldozing": k_b})
 
 
 REFINE = 16  # the reference step: the default / REFINE
