@@ -248,6 +248,7 @@ def _make_grid_point_contact_kernel(fixed: bool):
         sweeps: int,
         relax: float,
         near: ti.types.ndarray(),
+        geo: ti.types.ndarray(),
         cand: ti.types.ndarray(),
         count_out: ti.types.ndarray(),
         impulse: ti.types.ndarray(),
@@ -267,8 +268,11 @@ def _make_grid_point_contact_kernel(fixed: bool):
 
         The points within ``gap + margin`` of the polygon are listed in ``cand`` (their number in
         ``count_out[0]``) for the contact at the points after G2P: the blocks of points within
-        ``reach`` of the reference point are marked in parallel (``near``), then listed in one
-        serial pass in the points' order, as the sweeps run: deterministic.
+        ``reach`` of the reference point are marked, and the signed distance and world normal of
+        their points found (``geo[p]`` = (sd, n_x, n_z)), in parallel; the candidates are then
+        listed in one serial pass in the points' order, as the sweeps run: deterministic. The
+        sweeps read each point's distance and normal from ``geo`` (the points and the body do not
+        move during the sweeps).
         """
         bx, bz, theta = ti.cast(pose[0], float), ti.cast(pose[1], float), ti.cast(pose[2], float)
         bvx, bvz, omega = ti.cast(pose[3], float), ti.cast(pose[4], float), ti.cast(pose[5], float)
@@ -283,29 +287,33 @@ def _make_grid_point_contact_kernel(fixed: bool):
                 if d2[k] < reach * reach:
                     hit = 1
             near[blk] = hit
+            if hit:
+                for k in range(LANES):
+                    p = blk * LANES + k
+                    sd, n = 1e30, ti.Vector([0.0, 0.0])
+                    r = get_vec2(x, p) - ti.Vector([bx, bz])
+                    if p < n_points and r.norm_sqr() < reach * reach:
+                        local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])
+                        sd, n_loc = polygon_signed_distance(local, verts, nv)
+                        n = ti.Vector([c * n_loc[0] - s * n_loc[1], s * n_loc[0] + c * n_loc[1]])
+                    geo[p] = ti.Vector([sd, n[0], n[1]])
         count = 0
         ti.loop_config(serialize=True)
         for blk in range(x.shape[0]):
             if near[blk]:
                 for k in range(LANES):
                     p = blk * LANES + k
-                    if p < n_points:
-                        r = get_vec2(x, p) - ti.Vector([bx, bz])
-                        if r.norm_sqr() < reach * reach:
-                            local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])
-                            sd, n_loc = polygon_signed_distance(local, verts, nv)
-                            if sd < gap + margin:
-                                cand[count] = p
-                                count += 1
+                    if geo[p][0] < gap + margin:
+                        cand[count] = p
+                        count += 1
         count_out[0] = count
         ti.loop_config(serialize=True)
         for q in range(sweeps * count):
             p = cand[q % count]
             xp = get_vec2(x, p)
             r = xp - ti.Vector([bx, bz])
-            local = ti.Vector([c * r[0] + s * r[1], -s * r[0] + c * r[1]])
-            sd, n_loc = polygon_signed_distance(local, verts, nv)
-            n = ti.Vector([c * n_loc[0] - s * n_loc[1], s * n_loc[0] + c * n_loc[1]])
+            g = geo[p]
+            sd, n = g[0], ti.Vector([g[1], g[2]])
             vb = ti.Vector([bvx - omega * r[1], bvz + omega * r[0]])
             base, w = quadratic_weights(xp, h, pad)
             vp = ti.Vector([0.0, 0.0])
@@ -414,7 +422,7 @@ class PolygonContact:
         self.point_gap = None if point_gap is None else float(point_gap)
         # contact at the points: the points near the body (indices, their number) and the blocks of
         # points near its reference point
-        self._cand = self._near = None
+        self._cand = self._near = self._geo = None
         self._count = ti.ndarray(ti.i32, shape=1)
         self._count.fill(0)
         self.radius = float(np.max(np.linalg.norm(verts, axis=1)))
@@ -459,6 +467,7 @@ class PolygonContact:
             if self._cand is None or self._cand.shape[0] < p.n or self._near.shape[0] != p.blocks:
                 self._cand = ti.ndarray(ti.i32, shape=p.n)
                 self._near = ti.ndarray(ti.i32, shape=p.blocks)
+                self._geo = ti.Vector.ndarray(3, backend.info().real, shape=p.blocks * LANES)
             out = [Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS)))] if posed_by_host else []
             out.append(
                 Launch(
@@ -481,6 +490,7 @@ class PolygonContact:
                         GRID_SWEEPS,
                         GRID_RELAX,
                         self._near,
+                        self._geo,
                         self._cand,
                         self._count,
                         self.step_sums if fixed else self.impulse,
