@@ -22,6 +22,12 @@ app = typer.Typer(
 )
 
 
+MODEL_HELP = (
+    "Force model: rft, drft-inertial, drft, or a model file (*.model.json) written by `intrusim calibrate`: "
+    "its kind and parameters drive this scenario's body."
+)
+
+
 def _show_version(value: bool) -> None:
     if value:
         typer.echo(f"intrusim {__version__}")
@@ -99,7 +105,7 @@ def _fail(err: Exception) -> None:
 @app.command()
 def steady(
     scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
-    model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
+    model: str = typer.Option("drft", help=MODEL_HELP),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
     rft_coefficients: Optional[Path] = typer.Option(
@@ -113,12 +119,12 @@ def steady(
     from intrusim.scenarios import load_scenario
 
     try:
-        scn = with_rft_table(load_scenario(scenario), rft_coefficients)
-        st = run_steady(scn, model, omega_rpm, lam)
+        kind, scn = with_model(model, load_scenario(scenario), rft_coefficients)
+        st = run_steady(scn, kind, omega_rpm, lam)
     except (InputError, IntegratorError, NoContactError) as err:
         _fail(err)
     typer.echo(
-        f"{scn.name}, {model} (lambda = {st.meta['lam']:g}), omega = {omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:.3g} ms, "
+        f"{scn.name}, {_model_name(model, kind)} (lambda = {st.meta['lam']:g}), omega = {omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:.3g} ms, "
         f"window {st.window[0]:.2f}-{st.window[1]:.2f} s ({st.revolutions} rev){'' if st.settled else ', NOT SETTLED'}"
     )
     typer.echo(
@@ -128,6 +134,21 @@ def steady(
         f"{st.velocity:8.4f} | {st.sinkage * 1e3:10.2f} | {st.slip:6.3f} | {st.velocity / scn.velocity_scale:10.4f} | "
         f"{st.sinkage / scn.length_scale:9.4f} | {st.omega / scn.omega_0:12.3f}"
     )
+
+
+def with_model(model: str, scn: Any, rft_coefficients: Optional[Path]) -> tuple[str, Any]:
+    """The kind and scenario of ``--model`` (a kind, or a model file's kind and force model) and
+    ``--rft-coefficients`` (not with a model file, which names its own table)."""
+    from intrusim.analysis.model_file import resolve_model
+
+    kind, out = resolve_model(model, scn)
+    if out is not scn and rft_coefficients is not None:
+        raise InputError("--rft-coefficients and a model file: the model file holds its own force model")
+    return kind, with_rft_table(out, rft_coefficients)
+
+
+def _model_name(model: str, kind: str) -> str:
+    return kind if model == kind else f"{kind} of {model}"
 
 
 def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
@@ -150,7 +171,7 @@ def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
 @app.command()
 def sweep(
     scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
-    model: str = typer.Option("drft", help="Force model: rft, drft-inertial or drft."),
+    model: str = typer.Option("drft", help=MODEL_HELP),
     omega_rpm: str = typer.Option("10:90:10", help="RPM list 'a,b,c' or range 'start:stop:step'."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction."),
     parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
@@ -166,13 +187,13 @@ def sweep(
     from intrusim.scenarios import load_scenario
 
     try:
-        scn = with_rft_table(load_scenario(scenario), rft_coefficients)
+        kind, scn = with_model(model, load_scenario(scenario), rft_coefficients)
         res = sweep_omega(
-            scn, model, omega_list(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
+            scn, kind, omega_list(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
         )
     except InputError as err:
         _fail(err)
-    typer.echo(f"{scn.name}, {model}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
+    typer.echo(f"{scn.name}, {_model_name(model, kind)}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
     typer.echo(res.table())
     if csv is not None:
         res.to_csv(csv)
@@ -276,7 +297,26 @@ def status(
 @app.command()
 def calibrate(
     scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
-    mpm: Path = typer.Option(..., help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv."),
+    mpm: Optional[Path] = typer.Option(
+        None,
+        help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv. Without it the MPM runs are made (or their finished folders under --runs reused): --mpm-omegas, --quick, --runs, --settings, --set.",
+    ),
+    mpm_omegas: Optional[str] = typer.Option(
+        None,
+        help="Without --mpm: RPM list 'a,b,c' or range 'start:stop:step' of the MPM runs (default: a wheel's 10,20,30,45,60,90; a runner's 20,50,100,150,200,300).",
+    ),
+    quick: bool = typer.Option(
+        False, help="Without --mpm: the coarse, short MPM runs (2 cm cells): minutes, not hours."
+    ),
+    runs: Optional[Path] = typer.Option(
+        None, help="Without --mpm: folder of the MPM run folders (default runs/mpm or runs/mpm-quick)."
+    ),
+    settings: Optional[Path] = typer.Option(
+        None, "--settings", help="Without --mpm: MPM settings TOML file of the runs (as `mpm sweep --settings`)."
+    ),
+    sets: list[str] = typer.Option(
+        [], "--set", help="Without --mpm: KEY=VALUE, repeatable, an MPM setting of the runs (as `mpm sweep --set`)."
+    ),
     params: str = typer.Option(
         "xi,psi",
         help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper).",
@@ -320,7 +360,12 @@ def calibrate(
         help="Processes for the local fits (--starts) and the leave-one-out folds: a local Dask cluster when > 1.",
     ),
 ) -> None:
-    """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios."""
+    """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios.
+
+    Writes NAME.png, NAME.csv, NAME_vs_mpm.csv, NAME.json (the fit's record) and NAME.model.json, the
+    calibrated model, which `intrusim steady|sweep --model NAME.model.json` runs on any body. Without
+    --mpm it first makes the scenario's MPM runs (resumable; a finished run is reused) and keeps their
+    table as NAME_mpm.csv."""
     from intrusim.analysis.calibration import calibrate as fit
     from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
     from intrusim.analysis.calibration import leave_one_out as cross_validate
@@ -346,7 +391,16 @@ def calibrate(
                 s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
             return with_mpm_push(s) if mpm_push else s
 
+        stem = name or f"calibration_{Path(scenario).stem.replace('-', '_')}"
+        if name is not None and (not name or Path(name).name != name):
+            raise InputError(f"--name must be a plain file name stem, got {name!r}")
         start = prepared(scenario)
+        if mpm is None:
+            mpm = _mpm_references(
+                load_scenario(scenario), mpm_omegas, quick, runs, settings, sets, out / f"{stem}_mpm.csv"
+            )
+        elif mpm_omegas is not None or quick or runs is not None or settings is not None or sets:
+            raise InputError("--mpm-omegas, --quick, --runs, --settings and --set make the MPM runs: not with --mpm")
         ref = _unique_omegas(check_reference(load_reference(mpm, start.name, settled_only=settled_only)), mpm)
         psi_values: dict[str, float] = {}  # set from the calibrated scenario's rear drop, reused by the checks
         if psi_from_dh != "none":
@@ -398,9 +452,8 @@ def calibrate(
                         "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
     if loo is not None:
         meta["leave_one_out"] = loo.summary()
-    paths, check_cmps = write_calibration(
-        out, name or f"calibration_{scenario.replace('-', '_')}", res, start, ref, checks, model, meta
-    )
+    paths, check_cmps = write_calibration(out, stem, res, start, ref, checks, model, meta)
+    paths.append(_write_model_file(out / f"{stem}.model.json", res, model, mpm_push, mpm))
     for label, c in check_cmps.items():
         rows = ", ".join(
             f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}"
@@ -410,6 +463,50 @@ def calibrate(
                    f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
         typer.echo(str(p))
+
+
+def _mpm_references(
+    scn: Any,
+    omegas: Optional[str],
+    quick: bool,
+    runs: Optional[Path],
+    settings: Optional[Path],
+    sets: list[str],
+    csv: Path,
+) -> Path:
+    """Make (or reuse) the MPM runs of ``scn`` at ``omegas`` and write their table to ``csv``."""
+    import numpy as np
+
+    from intrusim.analysis.sweep import omega_list
+    from intrusim.figures.mpm import MPM_RUNNER_RPM, MPM_WHEEL_RPM, applying_settings, mpm_sweep
+    from intrusim.scenarios.mpm_settings import case_settings, settings_items
+
+    w = omega_list(omegas) if omegas is not None else (MPM_RUNNER_RPM if scn.body == "runner" else MPM_WHEEL_RPM)
+    if len(w) < 1:
+        raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
+    case_settings(scn.body, quick, settings, sets)  # a bad setting is refused before any run
+    with applying_settings(settings_items(settings, sets)):
+        res = mpm_sweep(scn, np.asarray(w, float), quick, True, runs)
+    csv.parent.mkdir(parents=True, exist_ok=True)
+    res.to_csv(csv)
+    typer.echo(f"MPM references: {csv}")
+    return csv
+
+
+def _write_model_file(path: Path, res: Any, kind: str, mpm_push: bool, mpm: Path) -> Path:
+    from intrusim.analysis.model_file import ModelFile, write_model
+
+    c = res.comparison
+    fit = {"params": res.values, "reference": str(mpm), "omega_rpm": c.omega_rpm.tolist(),
+           "max_abs_rel_error_velocity": _finite_or_none(c.max_abs_rel_error_velocity),
+           "max_abs_rel_error_sinkage": _finite_or_none(c.max_abs_rel_error_sinkage)}  # fmt: skip
+    model = ModelFile(kind=kind, force_model=res.scenario.force_model, mpm_push=mpm_push,
+                      calibrated_on=res.scenario.name, fit=fit)  # fmt: skip
+    return write_model(path, model)
+
+
+def _finite_or_none(x: float) -> Optional[float]:
+    return float(x) if x == x and abs(x) != float("inf") else None
 
 
 def _unique_omegas(ref: Any, source: Any) -> Any:

@@ -19,7 +19,7 @@ def test_steady_bad_input_is_a_message():
     r = runner.invoke(app, ["steady", "--omega-rpm", "-5"])
     assert r.exit_code == 2 and "omega_rpm must be > 0" in r.output
     r = runner.invoke(app, ["steady", "--model", "mpm-magic"])
-    assert r.exit_code == 2 and "supports" in r.output
+    assert r.exit_code == 2 and "must be one of rft, drft-inertial, drft or a model file" in r.output
 
 
 def test_sweep_keeps_good_points_and_reports_bad(tmp_path):
