@@ -22,6 +22,9 @@ app = typer.Typer(
 )
 
 
+SCENARIO_HELP = (
+    "wheel, small-wheel, runner, wheel-10-grousers, wheel-30-grousers, wheel-tall-grousers, or a scenario .toml file."
+)
 MODEL_HELP = (
     "Force model: rft, drft-inertial, drft, or a model file (*.model.json) written by `intrusim calibrate`: "
     "its kind and parameters drive this scenario's body."
@@ -104,7 +107,7 @@ def _fail(err: Exception) -> None:
 
 @app.command()
 def steady(
-    scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
+    scenario: str = typer.Option("wheel", help=SCENARIO_HELP),
     model: str = typer.Option("drft", help=MODEL_HELP),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (> 0, forward rolling)."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction (default: the scenario's)."),
@@ -170,7 +173,7 @@ def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
 
 @app.command()
 def sweep(
-    scenario: str = typer.Option("wheel", help="wheel, small-wheel, runner, or a scenario .toml file."),
+    scenario: str = typer.Option("wheel", help=SCENARIO_HELP),
     model: str = typer.Option("drft", help=MODEL_HELP),
     omega_rpm: str = typer.Option("10:90:10", help="RPM list 'a,b,c' or range 'start:stop:step'."),
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction."),
@@ -296,7 +299,7 @@ def status(
 
 @app.command()
 def calibrate(
-    scenario: str = typer.Argument(..., help="wheel, small-wheel, runner, or a scenario .toml file."),
+    scenario: str = typer.Argument(..., help=SCENARIO_HELP),
     mpm: Optional[Path] = typer.Option(
         None,
         help="MPM sweep CSV of the scenario, e.g. runs/mpm/grousered_wheel_mpm_sweep.csv. Without it the MPM runs are made (or their finished folders under --runs reused): --mpm-omegas, --quick, --runs, --settings, --set.",

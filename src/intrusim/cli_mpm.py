@@ -14,7 +14,7 @@ mpm_app = typer.Typer(
     help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True, cls=guarded_group()
 )
 
-SCENARIOS = ("wheel", "small-wheel", "runner")
+SCENARIOS = ("wheel", "small-wheel", "runner", "wheel-10-grousers", "wheel-30-grousers", "wheel-tall-grousers")
 
 
 def _finite(name: str, value: float | None) -> float | None:
@@ -169,6 +169,39 @@ def sweep(
     typer.echo(f"wrote {path}")
     if res.errors:
         typer.echo(f"error: {len(res.errors)} of {len(res.records)} points failed (see the table)", err=True)
+        raise typer.Exit(1)
+
+
+@mpm_app.command("references")
+def references(
+    out: Path = typer.Option(
+        Path("runs/references"), help="Root folder of the runs and the tables (reused: run again to finish)."
+    ),
+    quick: bool = typer.Option(False, help="2 cm cells for the bodies, 5 mm for the plates, fewer points: minutes."),
+    only: str = typer.Option(
+        None,
+        help="Comma-separated parts of the set (default all): wheel, small-wheel, wheel-10-grousers, "
+        "wheel-30-grousers, wheel-tall-grousers, runner, plate-drag, alpha-map.",
+    ),
+    workers: int = typer.Option(None, min=1, help="Processes for the RFT-map plates (default: one per core)."),
+) -> None:
+    """The MPM reference set of the reduced-order model (intrusim.figures.reference_set): omega sweeps
+    of six bodies, plate drag and the medium's RFT map; every run kept under --out and reused.
+    Exit code 1 if a point failed (the others are kept in the tables)."""
+    from intrusim.figures.reference_set import make_references, selected
+
+    try:
+        parts = selected(None if only is None else [s.strip() for s in only.split(",") if s.strip()])
+    except InputError as err:
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(2) from None
+    index = make_references(out, quick=quick, only=parts, workers=workers, echo=typer.echo)
+    bad = {k: v for k, v in index["parts"].items() if v.get("failed_omega_rpm") or v.get("failed")}
+    for name, part in index["parts"].items():
+        typer.echo(f"{name}: {out / part['table']}")
+    typer.echo(f"wrote {out / 'references.json'}")
+    if bad:
+        typer.echo(f"error: points failed in {', '.join(bad)} (see references.json); run again to retry them", err=True)
         raise typer.Exit(1)
 
 

@@ -15,6 +15,9 @@ from intrusim.scenarios.locomotor import (
     four_flap_runner_scenario,
     grousered_wheel_scenario,
     small_wheel_scenario,
+    tall_grouser_wheel_scenario,
+    ten_grouser_wheel_scenario,
+    thirty_grouser_wheel_scenario,
 )
 from intrusim.scenarios.plates import PlateScenario, drag_force_table, plate_drag_scenario, vertical_plate_scenario
 
@@ -22,12 +25,16 @@ LOCOMOTORS = {
     "wheel": grousered_wheel_scenario,
     "small-wheel": small_wheel_scenario,
     "runner": four_flap_runner_scenario,
+    "wheel-10-grousers": ten_grouser_wheel_scenario,
+    "wheel-30-grousers": thirty_grouser_wheel_scenario,
+    "wheel-tall-grousers": tall_grouser_wheel_scenario,
 }
 PLATES = {"plate-drag": plate_drag_scenario, "vertical-plate": vertical_plate_scenario}
 
 
 def get_scenario(name: str) -> LocomotorScenario | PlateScenario:
-    """A shipped scenario by name: wheel, small-wheel, runner, plate-drag, vertical-plate."""
+    """A shipped scenario by name: wheel, small-wheel, runner, the wheel's variants (wheel-10-grousers,
+    wheel-30-grousers, wheel-tall-grousers), plate-drag, vertical-plate."""
     table = {**LOCOMOTORS, **PLATES}
     if name not in table:
         raise InputError(f"unknown scenario {name!r}; known: {sorted(table)}")

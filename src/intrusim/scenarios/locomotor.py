@@ -199,6 +199,25 @@ def small_wheel_scenario() -> LocomotorScenario:
     )  # fmt: skip
 
 
+def ten_grouser_wheel_scenario() -> LocomotorScenario:
+    """The Table S1 wheel with 10 grousers of the same size (the reduced-order model's reference set)."""
+    return with_lug_count(grousered_wheel_scenario(), 10)
+
+
+def thirty_grouser_wheel_scenario() -> LocomotorScenario:
+    """The Table S1 wheel with 30 grousers of the same size (the reduced-order model's reference set)."""
+    return with_lug_count(grousered_wheel_scenario(), 30)
+
+
+def tall_grouser_wheel_scenario() -> LocomotorScenario:
+    """The Table S1 wheel with grousers twice as tall (hub, grouser thickness and count, inertias and
+    force model kept; l the new outer diameter): the reduced-order model's reference set."""
+    s = grousered_wheel_scenario()
+    return s.validated_copy(
+        name=f"{s.name}_tall_lugs", lug_height=2 * s.lug_height, length_scale=s.hub_diameter + 4 * s.lug_height
+    )
+
+
 RUNNER_STEPS_PER_REVOLUTION, RUNNER_DT_MAX = 600, 0.004
 
 
