@@ -27,8 +27,9 @@ Cases (``--cases``):
 
 ``--flip S`` runs every case with a fixed FLIP share S per step (0: APIC, the former default)
 instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (not the plate),
-and ``--band B`` with ``contact_band_cells = B`` instead of the default, each kept under its own key,
-for comparison.
+``--band B`` with the band contact of ``contact_band_cells = B`` and ``--contact surface`` with the
+contact 'surface' (the former default) instead of the default contact 'nodes', each kept under its
+own key, for comparison.
 
     python benchmarks/convergence.py --cases collapse silo --levels 2 --threads 1 --write docs/convergence.md
 """
@@ -49,6 +50,16 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "runs" / "convergence" / "results.json"
 CFL = (0.3, 0.15)  # dt and dt/2
 BAND: float | None = None  # contact_band_cells of the runs (--band); None: the config's default
+CONTACT: str | None = None  # MPMConfig.contact of the runs (--contact nodes); None: the config's default
+
+
+def contact_settings() -> dict:
+    """The runs' contact settings (--band, --contact): {} for the default."""
+    if BAND is not None:
+        return {"contact": "band", "contact_band_cells": BAND}
+    return {} if CONTACT is None else {"contact": CONTACT}
+
+
 PIC_TIME: float | None = None  # transfer.pic_time of the runs (--pic-time); None: the config's default
 FLUIDITY: float | None = (
     None  # grain diameter of the nonlocal fluidity (--fluidity; footing, wheels); None: the paper's law
@@ -108,7 +119,7 @@ def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str
     }
 
 
-def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float, band: float | None = None):
+def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float):
     from intrusim.mpm.config import (
         BedConfig,
         BoundaryConfig,
@@ -129,7 +140,7 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
         [(0.0, floor - thick), (a, floor - thick), (a, floor), (0.0, floor)],
         [(b, floor - thick), (lx, floor - thick), (lx, floor), (b, floor)],
     ]
-    extra = {} if band is None else {"contact": "band", "contact_band_cells": band}  # the static obstacles' band
+    extra = contact_settings()  # the static obstacles' contact
     return MPMConfig(
         domain=DomainConfig(size=(lx, lz), cells=(round(lx / h), round(lz / h))),
         material=MaterialConfig(rho_c=638.0, mu_s=0.56, youngs_modulus=1e6),
@@ -149,7 +160,7 @@ def silo(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, fl
 
     out: dict[str, float] = {}
     for width in SILO_WIDTHS:
-        solver = Solver(silo_config(h, cfl, threads, flip, width, BAND))
+        solver = Solver(silo_config(h, cfl, threads, flip, width))
         rows = solver.run()
         t = np.array([r["time"] for r in rows])
         m = np.array([r["outflow_mass"] for r in rows])
@@ -180,7 +191,7 @@ def wheel(rpm: float):
             cpu_threads=threads,
             cfl=cfl,
             flip=flip,
-            **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
+            **contact_settings(),
             **({} if PIC_TIME is None else {"pic_time": PIC_TIME}),
             **({} if FLUIDITY is None else {"fluidity": {"grain_diameter": FLUIDITY}}),
         )
@@ -212,7 +223,7 @@ def plate(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, f
                 cells=(round(0.30 / h), round(0.15 / h)),
                 cfl=cfl,
                 flip=flip,
-                **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
+                **contact_settings(),
             )
             rows = Solver(case.config(**backend(threads))).run()
             depth.append(d)
@@ -235,7 +246,7 @@ def footing(h: float, cfl: float, threads: int, flip: float | None) -> dict[str,
         cells_across=round(FOOTING_WIDTH / h),
         width=FOOTING_WIDTH,
         cfl=cfl,
-        **({} if BAND is None else {"contact": "band", "contact_band_cells": BAND}),
+        **contact_settings(),
     )
     data = case.config(**backend(threads)).model_dump()
     if flip is not None or PIC_TIME is not None:
@@ -262,6 +273,7 @@ CASES = {  # name: (run, base cells h in m, the quantities of the table)
 # ------------------------------------------------------------------------------------------ the runs
 def key(case: str, h: float, cfl: float, flip: float | None) -> str:
     variant = ("default" if flip is None else f"flip={flip:g}") + ("" if BAND is None else f"|band={BAND:g}")
+    variant += "" if CONTACT is None else f"|contact={CONTACT}"
     variant += "" if PIC_TIME is None else f"|pic_time={PIC_TIME:g}"
     variant += "" if FLUIDITY is None else f"|fluidity={FLUIDITY:g}"
     return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
@@ -349,15 +361,19 @@ def table(results: dict, variant: str, every_case: bool = True) -> list[str]:
 
 
 TITLES = {
-    "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), contact at the body's surface "
-    "(its grid part projected Gauss-Seidel, half steps)",
-    "default|band=1": "The default transfer with the 1-cell contact band (`--band 1`, the former default contact)",
+    "default": "The defaults: FLIP with a PIC share per step exp(-dt / tau), the contact 'nodes' (the grid nodes "
+    "inside the body projected, the points at its surface corrected)",
     "default|fluidity=0.003": "The defaults with the nonlocal granular fluidity, 3 mm grains, in place of the paper's law "
     "(`--fluidity 3e-3`)",
-    "default|grid_relax=0": "The defaults but the contact's grid part with the plain impulse m_p dv per point and sweep "
-    "(8 sweeps; a design tried, not kept)",
-    "default|grid_relax=1": "The defaults but the contact's grid part with full projected Gauss-Seidel steps, "
-    "m_p dv / S_p (a design tried, not kept)",
+    "default|contact=surface": "The default transfer with the contact 'surface' (`--contact surface`, the former "
+    "default: the points at the body's surface enforced on the grid by 8 projected Gauss-Seidel half steps)",
+    "default|contact=surface|fluidity=0.003": "The contact 'surface' with the nonlocal granular fluidity, 3 mm grains, "
+    "in place of the paper's law (`--contact surface --fluidity 3e-3`)",
+    "default|band=1": "The default transfer with the 1-cell contact band (`--band 1`, the default contact before 'surface')",
+    "default|contact=surface|grid_relax=0": "The contact 'surface' but its grid part with the plain impulse m_p dv per "
+    "point and sweep (8 sweeps; a design tried, not kept)",
+    "default|contact=surface|grid_relax=1": "The contact 'surface' but its grid part with full projected Gauss-Seidel "
+    "steps, m_p dv / S_p (a design tried, not kept)",
     "flip=0|band=1": "APIC (`transfer.flip = 0`) with the 1-cell contact band: the former defaults",
     "flip=1|band=1": "FLIP (`transfer.flip = 1`) with the 1-cell contact band",
 }
@@ -406,7 +422,14 @@ def main() -> None:
         "--band",
         type=float,
         default=None,
-        help="the band contact with this contact_band_cells for every body and obstacle (default: the contact at the surface)",
+        help="the band contact with this contact_band_cells for every body and obstacle (default: the config's contact, 'nodes')",
+    )
+    ap.add_argument(
+        "--contact",
+        choices=["nodes", "surface"],
+        default=None,
+        help="the contact of every body and obstacle (default: the config's, 'nodes'); 'surface': the points at "
+        "the body's surface enforced on the grid by sweeps (the former default)",
     )
     ap.add_argument(
         "--pic-time",
@@ -429,8 +452,10 @@ def main() -> None:
         or (args.band is not None and args.band < 0)
     ):
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
-    global BAND, PIC_TIME, FLUIDITY
-    BAND, PIC_TIME, FLUIDITY = args.band, args.pic_time, args.fluidity
+    global BAND, PIC_TIME, FLUIDITY, CONTACT
+    BAND, PIC_TIME, FLUIDITY, CONTACT = args.band, args.pic_time, args.fluidity, args.contact
+    if BAND is not None and CONTACT is not None:
+        sys.exit("--band and --contact: one contact at a time")
     if FLUIDITY is not None and (not set(args.cases) <= {"footing", "wheel30", "wheel90"} or not FLUIDITY > 0):
         sys.exit("--fluidity D needs D > 0 and --cases among footing, wheel30, wheel90")
     results = run_cases(

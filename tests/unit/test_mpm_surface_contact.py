@@ -59,9 +59,10 @@ def _wall_config(offset_cells: float, contact: str = "surface", band: float = 1.
     )
 
 
+@pytest.mark.parametrize("contact", ["surface", "nodes"])
 @pytest.mark.parametrize("offset_cells", [0.0, 0.4])
-def test_no_grain_passes_a_one_cell_wall(offset_cells):
-    cfg = _wall_config(offset_cells)
+def test_no_grain_passes_a_one_cell_wall(offset_cells, contact):
+    cfg = _wall_config(offset_cells, contact)
     solver = Solver(cfg)
     x_wall = cfg.obstacles[0].vertices[0][0]
     worst = -np.inf
@@ -95,8 +96,9 @@ def _plate_config(contact: str = "surface", band: float = 1.0) -> MPMConfig:
     )
 
 
-def test_a_one_cell_plate_dragged_through_the_bed_lets_no_grain_through():
-    cfg = _plate_config()
+@pytest.mark.parametrize("contact", ["surface", "nodes"])
+def test_a_one_cell_plate_dragged_through_the_bed_lets_no_grain_through(contact):
+    cfg = _plate_config(contact)
     solver = Solver(cfg)
     x0 = solver.particles.to_numpy(["x"])["x"]
     ahead = x0[:, 0] > cfg.intruders[0].x  # grains ahead of the plate's centre line

@@ -7,6 +7,7 @@ differ only in the last bit of the body's state (the kernel's arithmetic may fus
 """
 
 import numpy as np
+import pytest
 import taichi as ti
 
 from intrusim.mpm.config import (
@@ -26,9 +27,9 @@ from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 BODY = ("x", "z", "theta", "vx", "vz", "omega")
 
 
-def _wheel(device_bodies: bool) -> Solver:
+def _wheel(device_bodies: bool, contact: str = "nodes") -> Solver:
     """The coarse wheel at 60 RPM (2,500 points, ramp 0.15 s)."""
-    cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel"), 60.0, None)
+    cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel").validated_copy(contact=contact), 60.0, None)
     cfg.backend.device_bodies = device_bodies
     return Solver(cfg)
 
@@ -38,15 +39,17 @@ def _body(solver: Solver) -> np.ndarray:
     return np.array([getattr(st, n) for n in BODY], float)
 
 
-def test_device_dynamics_follow_the_host_dynamics():
-    host, device = _wheel(False), _wheel(True)
+@pytest.mark.parametrize("contact, rolled", [("nodes", 0.015), ("surface", 0.02)])
+def test_device_dynamics_follow_the_host_dynamics(contact, rolled):
+    host, device = _wheel(False, contact), _wheel(True, contact)
     assert device.intruders[0].on_device and not host.intruders[0].on_device
     start = _body(device)
     for _ in range(1500):  # spin-up, sinking and rolling
         host.step()
         device.step()
     bh, bd = _body(host), _body(device)
-    assert bd[0] - start[0] > 0.02 and start[1] - bd[1] > 0.01  # it rolled 2 cm and sank 1 cm
+    # it rolled (measured 1.8 cm with the contact "nodes", over 2 cm with "surface") and sank 1 cm
+    assert bd[0] - start[0] > rolled and start[1] - bd[1] > 0.01
     assert bd[5] == host.cfg.intruders[0].motion.omega  # driven omega after the ramp
     np.testing.assert_allclose(bd, bh, rtol=1e-12, atol=1e-12)  # measured: 7e-17 in vz
     xh, xd = host.particles.to_numpy(["x"])["x"], device.particles.to_numpy(["x"])["x"]
@@ -97,6 +100,7 @@ def _three_bodies(device_bodies: bool) -> MPMConfig:
         domain=DomainConfig(size=(0.3, 0.15), cells=(30, 15)),
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.3, z1=0.08)]),
         intruders=bodies,
+        contact="surface",  # the motions below were measured with it; the wheel above has both contacts
         backend=dict(device_bodies=device_bodies),
     )
 

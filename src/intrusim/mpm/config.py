@@ -18,6 +18,11 @@ from intrusim.validation import check_mpm_geometry, reject_bool_numbers
 Vec2 = tuple[float, float]
 
 
+# The rigid-body contact of every MPM run unless set (MPMConfig.contact): the grid nodes inside the body
+# take its velocity, the points that touch its surface are corrected after G2P (docs/mpm.md, "Contact")
+DEFAULT_CONTACT = "nodes"
+
+
 class _Model(BaseModel):
     # finite numbers only (inf and NaN are refused, naming the field); true/false are not numbers
     model_config = ConfigDict(extra="forbid", frozen=False, allow_inf_nan=False)
@@ -368,10 +373,12 @@ class MPMConfig(_Model):
     obstacles: list[ObstacleConfig] = Field(default_factory=list)
     intruders: list[IntruderConfig] = Field(default_factory=list)
     gravity: Vec2 = Field((0.0, -9.8), description="m/s^2, (gx, gz)")
-    contact: Literal["surface", "band"] = Field(
-        "surface",
-        description="rigid-body contact: 'surface', at the points, against the body's exact surface "
-        "(docs/mpm.md); 'band', at the grid nodes within contact_band_cells of the body",
+    contact: Literal["nodes", "surface", "band"] = Field(
+        DEFAULT_CONTACT,
+        description="rigid-body contact (docs/mpm.md): 'nodes' (the default), the grid nodes inside the body "
+        "projected and the points touching its surface corrected; 'surface', the points touching the "
+        "body's surface enforced on the grid by sweeps, then corrected; 'band', the grid nodes within "
+        "contact_band_cells of the body",
     )
     contact_band_cells: float = Field(
         1.0, ge=0, description="contact 'band': grid nodes within this distance (cells) of a body are in contact"

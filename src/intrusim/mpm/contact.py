@@ -398,6 +398,9 @@ class PolygonContact:
     point_gap : m, or None: contact at the points, at the body's exact surface (points whose
         centre is closer than ``point_gap`` to it, see ``rigid_polygon_point_contact``; the default
         of ``MPMConfig.contact``), in place of the grid nodes' band.
+    nodes : with ``point_gap``, the grid part is the projection of the grid nodes closer than
+        ``band`` (0: inside the body; ``MPMConfig.contact`` "nodes") in place of the points' sweeps;
+        the points' correction after G2P is the same.
     """
 
     def __init__(
@@ -407,6 +410,7 @@ class PolygonContact:
         band: float,
         fixed_scale: float | None = None,
         point_gap: float | None = None,
+        nodes: bool = False,
     ):
         from .backend import info
 
@@ -420,6 +424,7 @@ class PolygonContact:
         self.mu = float(mu)
         self.band = float(band)
         self.point_gap = None if point_gap is None else float(point_gap)
+        self.nodes = bool(nodes) and point_gap is not None
         # contact at the points: the points near the body (indices, their number) and the blocks of
         # points near its reference point
         self._cand = self._near = self._geo = None
@@ -487,7 +492,7 @@ class PolygonContact:
                         self.point_gap,
                         self.radius + self.point_gap + grid.h,
                         grid.h,
-                        GRID_SWEEPS,
+                        0 if self.nodes else GRID_SWEEPS,  # "nodes": the points listed, the grid left to the band
                         GRID_RELAX,
                         self._near,
                         self._geo,
@@ -498,10 +503,22 @@ class PolygonContact:
                     ),
                 )
             )
+            if self.nodes:
+                out.append(self._band_launch(grid, dt))
             if fixed:
                 out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
             return out
-        contact = Launch(
+        out = [self._band_launch(grid, dt)]
+        if posed_by_host:
+            out.insert(0, Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS))))
+        if fixed:
+            out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
+        return out
+
+    def _band_launch(self, grid: "Grid", dt: float) -> Launch:
+        """The projection of the grid nodes closer than ``band`` to the body (``rigid_polygon_contact``)."""
+        fixed = self.fixed_scale is not None
+        return Launch(
             _CONTACT_KERNELS[fixed],
             (
                 grid.m,
@@ -519,12 +536,6 @@ class PolygonContact:
                 self.fixed_scale if fixed else 1.0,
             ),
         )
-        out = [contact]
-        if posed_by_host:
-            out.insert(0, Launch(set_pose, (self.pose, *(Var(prefix + n) for n in POSE_FIELDS))))
-        if fixed:
-            out.append(Launch(fold_impulse, (self.step_sums, self.impulse, 1.0 / self.fixed_scale)))
-        return out
 
     def point_launches(self, particles, dt: float, lead: float) -> list[Launch]:
         """With ``point_gap``: the contact at the points, launched after G2P (and the fold of its

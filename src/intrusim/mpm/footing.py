@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .config import (
+    DEFAULT_CONTACT,
     BedConfig,
     BoundaryConfig,
     DomainConfig,
@@ -74,7 +75,7 @@ class FootingCase:
     youngs_modulus: float = 1.0e6  # Pa
     cfl: float = 0.3
     dt: float | None = None  # s, None: the stable limit
-    contact: str = "surface"
+    contact: str = DEFAULT_CONTACT
     contact_band_cells: float = 1.0
     records: int = 100
 

@@ -107,10 +107,11 @@ class Intruder:
         fixed_scale: float | None = None,
         on_device: bool = False,
         point_gap: float | None = None,
+        nodes: bool = False,
     ):
         self.cfg = cfg
         self.width = cfg.width
-        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale, point_gap)
+        self.contact = PolygonContact(np.asarray(cfg.vertices), cfg.mu_w, band, fixed_scale, point_gap, nodes)
         self.gravity = gravity
         self.x0 = (cfg.x, cfg.z, cfg.theta)
         self.on_device = bool(on_device) and self.coupled

@@ -14,6 +14,7 @@ import numpy as np
 from intrusim.analysis.plates import fit_drag_law  # noqa: F401  (re-exported: the Fig 6 fit)
 
 from .config import (
+    DEFAULT_CONTACT,
     BedConfig,
     BoundaryConfig,
     DomainConfig,
@@ -53,7 +54,7 @@ class PlateDragCase:
     mu_w: float = 0.35  # plate-grain friction (not given for Fig 6; the wheel value)
     youngs_modulus: float = 1.0e6  # Pa
     ramp_fraction: float = 0.25  # ramp time = ramp_fraction * plate_length / speed
-    contact: str = "surface"  # MPMConfig.contact: at the plate's surface, or "band" (docs/mpm.md)
+    contact: str = DEFAULT_CONTACT  # MPMConfig.contact (docs/mpm.md)
     contact_band_cells: float = 1.0  # contact "band": nodes this close outside the plate are in contact
     cfl: float = 0.3  # C in dt = C h sqrt(rho / E) (TimeConfig.cfl)
     flip: float | None = None  # FLIP's share of the velocity update (TransferConfig.flip; None: the default; 0: APIC)

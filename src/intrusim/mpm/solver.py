@@ -118,14 +118,16 @@ class Solver:
         self.h = self.grid.h
         self.gravity = tuple(float(g) for g in cfg.gravity)
         self.material = material_from_config(cfg.material)
-        band = cfg.contact_band_cells * self.h
-        # contact at the points (the default), at half a point spacing from the body's surface
-        gap = 0.5 * self.h / cfg.domain.particles_per_cell if cfg.contact == "surface" else None
+        band = 0.0 if cfg.contact == "nodes" else cfg.contact_band_cells * self.h
+        # contact at the points (the default, and "nodes"), at half a point spacing from the body's surface
+        gap = 0.5 * self.h / cfg.domain.particles_per_cell if cfg.contact != "band" else None
+        nodes = cfg.contact == "nodes"
         self.obstacles = [
-            PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap) for o in cfg.obstacles
+            PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap, nodes) for o in cfg.obstacles
         ]
         self.intruders = [
-            Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap) for ic in cfg.intruders
+            Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap, nodes)
+            for ic in cfg.intruders
         ]
         if particles is None:
             exclude = [np.asarray(o.vertices) for o in cfg.obstacles]

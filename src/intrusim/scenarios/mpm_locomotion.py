@@ -33,7 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
-from intrusim.mpm.config import FluidityConfig, MuIConfig, Precision, Shape
+from intrusim.mpm.config import DEFAULT_CONTACT, FluidityConfig, MuIConfig, Precision, Shape
 from intrusim.mpm.io import atomic_file, atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
@@ -80,7 +80,9 @@ class MPMSettings(Config):
         every run of docs/results.md) or "linear" (the cell's bilinear functions, as mpm-2d; with flip 1).
     drop_escaped : a point thrown out of the box leaves the run (``OutputConfig.escaped = "drop"``, as
         mpm-2d marks such points inactive) instead of stopping it with a diagnosis (the default).
-    contact : "surface" (the default): contact at the points that touch the body's exact surface;
+    contact : "nodes" (the default): the grid nodes inside the body projected, then the points at
+        its surface corrected; "surface": the points that touch the body's exact surface enforced on
+        the grid by sweeps, then corrected;
         "band": at the grid nodes within ``contact_band_cells`` (docs/mpm.md).
     contact_band_cells : with contact "band", grid nodes closer than this many cells outside the
         body are in contact (the body acts about this much larger on the grid; docs/mpm.md).
@@ -115,7 +117,7 @@ class MPMSettings(Config):
     pic_time: float | None = Field(None, gt=0.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
-    contact: Literal["surface", "band"] = "surface"  # MPMConfig.contact
+    contact: Literal["nodes", "surface", "band"] = DEFAULT_CONTACT  # MPMConfig.contact
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: Precision = "f32"  # the backend's: f32 or f64
