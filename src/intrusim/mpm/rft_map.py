@@ -58,9 +58,9 @@ class PlateMapCase:
     mu_s: float = 0.56
     mu_w: float = 0.35
     youngs_modulus: float = 1.0e6  # Pa
-    # MPMConfig.contact: the band contact with band 0, as the published map (docs/results.md). With
-    # "surface", the MPM's default, the 25 mm plate pushed down carries 1.78x the band's load at 5 mm
-    # cells and 1.59x at 2.5 mm (the band: 185k and 182k N/m^3; docs/convergence.md)
+    # MPMConfig.contact: the band contact with band 0, as the published map (docs/results.md). The 25 mm
+    # plate pushed down: band 0 185k and 182k N/m^3 at 5 and 2.5 mm cells, "nodes" (the MPM's default;
+    # the reference set's map) 198k and 206k, "surface" 328k and 289k (docs/mpm.md)
     contact: str = "band"
     contact_band_cells: float = 0.0
     ramp_time: float = 0.02  # s
