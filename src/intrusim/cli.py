@@ -368,7 +368,7 @@ def calibrate(
     Writes NAME.png, NAME.csv, NAME_vs_mpm.csv, NAME.json (the fit's record) and NAME.model.json, the
     calibrated model, which `intrusim steady|sweep --model NAME.model.json` runs on any body. Without
     --mpm it first makes the scenario's MPM runs (resumable; a finished run is reused) and keeps their
-    table as NAME_mpm.csv."""
+    table as NAME_mpm.csv (their settings beside it, NAME_mpm.settings.json)."""
     from intrusim.analysis.calibration import calibrate as fit
     from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
     from intrusim.analysis.calibration import leave_one_out as cross_validate
@@ -478,20 +478,15 @@ def _mpm_references(
     csv: Path,
 ) -> Path:
     """Make (or reuse) the MPM runs of ``scn`` at ``omegas`` and write their table to ``csv``."""
-    import numpy as np
-
     from intrusim.analysis.sweep import omega_list
-    from intrusim.figures.mpm import MPM_RUNNER_RPM, MPM_WHEEL_RPM, applying_settings, mpm_sweep
+    from intrusim.figures.mpm import MPM_RUNNER_RPM, MPM_WHEEL_RPM, mpm_sweep_table
     from intrusim.scenarios.mpm_settings import case_settings, settings_items
 
     w = omega_list(omegas) if omegas is not None else (MPM_RUNNER_RPM if scn.body == "runner" else MPM_WHEEL_RPM)
     if len(w) < 1:
         raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
     case_settings(scn.body, quick, settings, sets)  # a bad setting is refused before any run
-    with applying_settings(settings_items(settings, sets)):
-        res = mpm_sweep(scn, np.asarray(w, float), quick, True, runs)
-    csv.parent.mkdir(parents=True, exist_ok=True)
-    res.to_csv(csv)
+    mpm_sweep_table(scn, w, quick, runs, settings_items(settings, sets), csv)
     typer.echo(f"MPM references: {csv}")
     return csv
 
@@ -499,17 +494,12 @@ def _mpm_references(
 def _write_model_file(path: Path, res: Any, kind: str, mpm_push: bool, mpm: Path) -> Path:
     from intrusim.analysis.model_file import ModelFile, write_model
 
-    c = res.comparison
-    fit = {"params": res.values, "reference": str(mpm), "omega_rpm": c.omega_rpm.tolist(),
-           "max_abs_rel_error_velocity": _finite_or_none(c.max_abs_rel_error_velocity),
-           "max_abs_rel_error_sinkage": _finite_or_none(c.max_abs_rel_error_sinkage)}  # fmt: skip
+    c = res.comparison.summary()  # the errors as the fit's record has them (None where not finite)
+    fit = {"params": res.values, "reference": str(mpm), "omega_rpm": c["omega_rpm"],
+           **{k: c[k] for k in ("max_abs_rel_error_velocity", "max_abs_rel_error_sinkage")}}  # fmt: skip
     model = ModelFile(kind=kind, force_model=res.scenario.force_model, mpm_push=mpm_push,
                       calibrated_on=res.scenario.name, fit=fit)  # fmt: skip
     return write_model(path, model)
-
-
-def _finite_or_none(x: float) -> Optional[float]:
-    return float(x) if x == x and abs(x) != float("inf") else None
 
 
 def _unique_omegas(ref: Any, source: Any) -> Any:

@@ -27,7 +27,7 @@ from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
-from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences  # noqa: E402
+from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.
@@ -154,6 +154,22 @@ def mpm_sweep(
             update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers))))
         )
     return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
+
+
+def mpm_sweep_table(
+    scenario: LocomotorScenario, rpm: Any, quick: bool, runs: Path | None, items: list[tuple[str, Any]], csv: Path
+) -> SweepResult:
+    """:func:`mpm_sweep` of ``scenario`` at ``rpm`` with the settings ``items`` over its quick or paper
+    ones, its table written to ``csv`` and the runs' settings beside it (``CSV.settings.json``, as
+    ``intrusim mpm sweep`` writes them), for ``intrusim calibrate --mpm`` and the reference set."""
+    rpm = np.asarray(rpm, float)
+    with applying_settings(items):
+        res = mpm_sweep(scenario, rpm, quick, True, runs)
+        case = mpm_case(scenario, quick, runs)
+    csv.parent.mkdir(parents=True, exist_ok=True)
+    res.to_csv(csv)
+    write_record(csv, scenario.name, {float(w): case.mpm for w in rpm})
+    return res
 
 
 def fig3ab(

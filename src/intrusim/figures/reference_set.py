@@ -24,8 +24,6 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-import numpy as np
-
 from intrusim._checks import InputError
 from intrusim.scenarios import LocomotorScenario
 
@@ -139,9 +137,8 @@ def make_references(
 
     A failed point is reported and left out of its table; the others are kept."""
     from intrusim.analysis.sweep import dask_map
-    from intrusim.figures.mpm import applying_settings, mpm_case, mpm_sweep
+    from intrusim.figures.mpm import mpm_sweep_table
     from intrusim.figures.mpm_plates import drag_points
-    from intrusim.scenarios.mpm_settings import write_record
 
     names = selected(only)
     root = Path(root)
@@ -153,11 +150,8 @@ def make_references(
         scn = sweep.scenario()
         omegas = sweep.quick_omegas if quick else sweep.omegas
         echo(f"{sweep.name} ({scn.name}): MPM at {', '.join(f'{w:g}' for w in omegas)} RPM")
-        with applying_settings(sweep.settings_items(quick)):
-            res = mpm_sweep(scn, np.asarray(omegas), quick, True, root)
-            case = mpm_case(scn, quick, root)
-        csv = res.to_csv(root / f"{sweep.name}_mpm.csv")
-        write_record(csv, scn.name, {float(w): case.mpm for w in omegas})
+        csv = root / f"{sweep.name}_mpm.csv"
+        res = mpm_sweep_table(scn, omegas, quick, root, sweep.settings_items(quick), csv)
         failed = [float(r["omega_rpm"]) for r in res.records if not r["ok"]]
         index["parts"][sweep.name] = {"scenario": scn.name, "table": csv.name, "omega_rpm": list(omegas),
                                       "failed_omega_rpm": failed}  # fmt: skip
