@@ -131,8 +131,8 @@ def sweep(
         False, "--oversubscribe", help="Allow more --workers than this machine's cores."
     ),
 ) -> None:
-    """An omega sweep of MPM runs on a Dask cluster; writes sweep.csv (and the runs' settings beside
-    it, SCENARIO_mpm_sweep.settings.json) and prints a table.
+    """An omega sweep of MPM runs on a Dask cluster; writes SCENARIO_mpm_sweep.csv in --out (and the
+    runs' settings beside it, SCENARIO_mpm_sweep.settings.json) and prints a table.
     Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
