@@ -243,6 +243,11 @@ def test_cli_calibrate_writes_json_csv_png(tmp_path):
     assert "check small_wheel (small_grousered_wheel, fitted values reused): 30 RPM v " in r.output
     out = tmp_path / "out"
     assert (out / "cal.png").stat().st_size > 1000
+    for body in ("calibrated", "small_wheel"):  # one figure per body besides the whole
+        assert (out / f"cal_{body}.png").stat().st_size > 1000
+    small_rows = list(csv.DictReader((out / "cal_small_wheel_vs_mpm.csv").open()))
+    assert {row["scenario"] for row in small_rows} == {"small_grousered_wheel"}
+    assert {row["curve"] for row in small_rows} == {"DRFT before (small_wheel)", "DRFT calibrated (small_wheel)"}
     report = json.loads((out / "cal.json").read_text())
     assert report["calibration"]["values"]["xi"] == pytest.approx(0.8, rel=0.02)
     assert report["psi_from_surface_drop"]["linear_slope"] == pytest.approx(0.5)

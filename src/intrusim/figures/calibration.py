@@ -8,6 +8,9 @@ calibrated parameters and no refitting). Files, for ``name``:
 
 * ``name.png`` and ``name.csv`` (every plotted point), written by :func:`intrusim.figures._output.write_curves`;
 * ``name_vs_mpm.csv``: relative difference of each DRFT curve from MPM at the MPM omegas;
+* with transfer checks, also one figure per body, ``name_LABEL.png`` (LABEL the check's name, a
+  TOML file's stem; ``name_calibrated.png`` for the calibrated body), with its own CSVs as above: MPM, the paper's DRFT and the
+  calibrated DRFT of that body alone;
 * ``name.json``: the fitted values, the fit's per-omega errors, the errors before calibration
   (the paper's values unless the start was changed), the transfer checks, psi fitted to the
   measured rear surface drop, and the 15 % verdict.
@@ -16,6 +19,7 @@ calibrated parameters and no refitting). Files, for ``name``:
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
@@ -108,11 +112,15 @@ def write_calibration(
     for chk in checks:
         cases.append((chk.scenario, with_parameters(chk.scenario, result.values), chk.reference, f" ({chk.label})"))
     curves: list[tuple[str, LocomotorScenario, SweepResult]] = []
+    per_body: list[tuple[str, list[tuple[str, LocomotorScenario, SweepResult]]]] = []
     report: dict[str, Any] = {"calibration": result.summary(), "verdict": _verdict(result.comparison), "checks": {}}
     check_cmps: dict[str, Comparison] = {}
     for i, (s0, s1, ref, tag) in enumerate(cases):
         before, after = _curve(s0, ref, kind), _curve(s1, ref, kind)
-        curves += [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
+        body = [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
+        curves += body
+        label = "calibrated" if i == 0 else re.sub(r"[^A-Za-z0-9_-]+", "_", Path(checks[i - 1].label).stem)
+        per_body.append((label, body))
         entry = {
             "uncalibrated": comparison(s0.name, ref, before).summary(),
             "psi_from_surface_drop": psi_from_surface_drop(s0, ref),
@@ -130,6 +138,9 @@ def write_calibration(
     title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
              f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip
     paths = write_curves(out, name, curves, title)
+    if checks:  # one figure per body as well
+        for label, body in per_body:
+            paths += write_curves(out, f"{name}_{label}", body, f"{body[0][1].name}: {title}")
     paths.append(out / f"{name}.json")
     atomic_write_bytes(paths[-1], json.dumps(report, indent=1).encode())
     return paths, check_cmps
