@@ -9,8 +9,9 @@ calibrated parameters and no refitting). Files, for ``name``:
 * ``name.png`` and ``name.csv`` (every plotted point), written by :func:`intrusim.figures._output.write_curves`;
 * ``name_vs_mpm.csv``: relative difference of each DRFT curve from MPM at the MPM omegas;
 * with transfer checks, also one figure per body, ``name_LABEL.png`` (LABEL the check's name, a
-  TOML file's stem; ``name_calibrated.png`` for the calibrated body), with its own CSVs as above: MPM, the paper's DRFT and the
-  calibrated DRFT of that body alone;
+  TOML file's stem, numbered where two would be the same; ``name_calibrated.png`` for the
+  calibrated body), with its own CSVs as above: MPM, the paper's DRFT and the calibrated DRFT of
+  that body alone;
 * ``name.json``: the fitted values, the fit's per-omega errors, the errors before calibration
   (the paper's values unless the start was changed), the transfer checks, psi fitted to the
   measured rear surface drop, and the 15 % verdict.
@@ -120,6 +121,8 @@ def write_calibration(
         body = [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
         curves += body
         label = "calibrated" if i == 0 else re.sub(r"[^A-Za-z0-9_-]+", "_", Path(checks[i - 1].label).stem)
+        if any(label == used for used, _ in per_body):  # one file name per body
+            label = f"{label}_{i}"
         per_body.append((label, body))
         entry = {
             "uncalibrated": comparison(s0.name, ref, before).summary(),
