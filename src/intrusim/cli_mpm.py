@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from intrusim._checks import InputError
 from intrusim.errors import guarded_group, validation_message
+
+if TYPE_CHECKING:
+    from intrusim.scenarios.mpm_locomotion import MPMSteadyState
 
 mpm_app = typer.Typer(
     help="Continuum (MPM) simulations: wheels and runner, sweeps, movies.", no_args_is_help=True, cls=guarded_group()
@@ -107,9 +111,22 @@ def steady(
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
-    typer.echo(
-        f"steady state over t = {st.window[0]:.2f}-{st.window[1]:.2f} s: v = {st.velocity:.4f} m/s, "
-        f"sinkage = {st.sinkage * 1e3:.2f} mm, slip = {st.slip:.3f}, rear surface drop = {st.surface_drop * 1e3:.1f} mm "
+    typer.echo(steady_line(st))
+
+
+def steady_line(st: MPMSteadyState) -> str:
+    """The one-line summary of an MPM locomotion run: "steady state over ..." only when the
+    window settled (its halves' means within 5 %, ``MPMSteadyState.settled``); otherwise the
+    numbers are called window averages and the drift and the way to extend the run are named."""
+    head = f"steady state over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
+    if not st.settled:
+        head = (
+            f"NOT settled (the window's halves differ by {st.drift:.1%}; extend the run with --set t_max=T "
+            f"on the same --out): averages over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
+        )
+    return (
+        f"{head}: v = {st.velocity:.4f} m/s, sinkage = {st.sinkage * 1e3:.2f} mm, slip = {st.slip:.3f}, "
+        f"rear surface drop = {st.surface_drop * 1e3:.1f} mm "
         f"({st.steps} steps, {st.meta['particles']} particles, {st.wall_time:.0f} s wall)"
     )
 

@@ -4,6 +4,7 @@ import csv
 import json
 import re
 
+import numpy as np
 import pytest
 from cli_helpers import tiny_config
 from typer.testing import CliRunner
@@ -194,7 +195,7 @@ def test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_comp
     sets = _set("length=0.6", "t_max=1.6", "treadmill=[0.3, 0.2]", "contact=surface")
     r = runner.invoke(app, ["mpm", "steady", "--quick", *sets])
     assert r.exit_code == 0, r.output
-    assert "steady state over t = 0.60-1.59 s" in r.output
+    assert "over t = 0.60-1.59 s" in r.output  # the quick run drifts: "NOT settled: averages over ..."
     assert float(re.findall(r"  x = ([0-9.]+) m ", r.output)[-1]) > 0.45
 
 
@@ -302,3 +303,24 @@ def test_a_folder_written_before_a_setting_existed_goes_on_when_the_setting_is_i
     other.write_text(TINY.replace("t_end = 0.02", "t_end = 0.04") + "[backend]\ndeterministic_sums = false\n")
     r = runner.invoke(app, ["mpm", "run", str(other), "--out", str(out)])
     assert r.exit_code == 2 and "differs in backend.deterministic_sums" in r.output, r.output
+
+
+def test_the_summary_line_calls_a_drifting_window_an_average_not_a_steady_state():
+    """A run whose window's halves differ by 5 % or more (``settled`` False) is reported as "NOT
+    settled" with its drift and the way to extend it, never as a steady state."""
+    from intrusim.cli_mpm import steady_line
+    from intrusim.scenarios.mpm_locomotion import steady_from_series
+
+    t = np.linspace(0.0, 3.0, 301)
+    outline = np.array([[0.1, 0.0], [0.0, 0.1], [-0.1, 0.0], [0.0, -0.1]])
+    base = {"time": t, "x": 0.2 * t, "theta": -3.0 * t, "vz": 0 * t, "omega": -3.0 + 0 * t}
+    base.update(fx=0 * t, fz=0 * t, moment=0 * t)
+    flat = steady_from_series({**base, "z": 0.36 + 0 * t, "vx": 0.2 + 0 * t}, outline, 0.3, 0.65, False, [])
+    sinking = steady_from_series({**base, "z": 0.36 - 0.01 * t, "vx": 0.25 - 0.04 * t}, outline, 0.3, 0.65, False, [])
+    for st in (flat, sinking):
+        st.meta["particles"] = 10
+    assert flat.settled and steady_line(flat).startswith("steady state over t = 0.66-3.00 s: v = 0.2000 m/s")
+    assert not sinking.settled
+    line = steady_line(sinking)
+    assert line.startswith("NOT settled (the window's halves differ by ") and "steady state" not in line
+    assert f"{sinking.drift:.1%}" in line and "--set t_max=T" in line and "averages over t = 0.66-3.00 s" in line
