@@ -442,10 +442,11 @@ class Solver:
 
     def _replace_particles(self, arrays: dict[str, np.ndarray]) -> None:
         """New particle arrays of another count; the step's launches and graphs, which hold the old
-        arrays, are built again at the next step."""
-        self.particles = Particles(arrays)
+        arrays, are built again at the next step; the former arrays are freed."""
+        old, self.particles = self.particles, Particles(arrays)
         self._plans.clear()
         self._graphs.clear()
+        old.release()
 
     def _fresh_bed(self, x_from: float) -> dict[str, np.ndarray]:
         """Every particle field of the configured bed's points at x > ``x_from``, at rest."""
