@@ -476,6 +476,7 @@ def run_mpm_steady(
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
     meta = {
         "dt": solver.dt,
+        "cell_size": solver.h,
         "particles": solver.particles.n,
         "omega_rpm": omega_rpm,
         "fields": [str(p) for p in kept],
