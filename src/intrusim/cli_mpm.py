@@ -124,8 +124,9 @@ def steady_line(st: MPMSteadyState) -> str:
         finer = "" if h is None else f", or halve the cells, --set cell_size={h / 2:.4g}"
         head = (
             f"NOT settled (the window's halves differ by {st.drift:.1%}; extend the run with --set t_max=T "
-            f"on the same --out{finer}: at 5 mm cells the Table S1 wheel never settles, at 2.5 mm it does, "
-            f"docs/convergence.md): averages over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
+            f"or start its window later with --set settle_time=S, on the same --out{finer}: at 5 mm cells the "
+            f"Table S1 wheel never settles, at 2.5 mm it does after 3 s, docs/convergence.md): "
+            f"averages over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
         )
     return (
         f"{head}: v = {st.velocity:.4f} m/s, sinkage = {st.sinkage * 1e3:.2f} mm, slip = {st.slip:.3f}, "

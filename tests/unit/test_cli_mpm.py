@@ -323,7 +323,12 @@ def test_the_summary_line_calls_a_drifting_window_an_average_not_a_steady_state(
     assert not sinking.settled
     line = steady_line(sinking)
     assert line.startswith("NOT settled (the window's halves differ by ") and "steady state" not in line
-    assert f"{sinking.drift:.1%}" in line and "--set t_max=T" in line and "averages over t = 0.66-3.00 s" in line
+    assert (
+        f"{sinking.drift:.1%}" in line
+        and "--set t_max=T" in line
+        and "--set settle_time=S" in line
+        and "averages over t = 0.66-3.00 s" in line
+    )
     assert "cell_size" not in line  # a state without its cell size names no finer one
     sinking.meta["cell_size"] = 0.005
     assert "halve the cells, --set cell_size=0.0025" in steady_line(sinking)
