@@ -18,6 +18,7 @@ import numpy as np
 import taichi as ti
 
 from . import backend
+from ._taichi_private import free_ndarrays
 from .coulomb import coulomb_project
 from .exact_sums import ATOMIC, FIXED, scatter_add
 from .particles import LANES, get_scalar, get_vec2, set_vec2
@@ -470,6 +471,7 @@ class PolygonContact:
         if self.point_gap is not None:  # contact located at the points: its grid part
             p = particles
             if self._cand is None or self._cand.shape[0] < p.n or self._near.shape[0] != p.blocks:
+                free_ndarrays([self._geo])  # the former points' (a run whose points come and go)
                 self._cand = ti.ndarray(ti.i32, shape=p.n)
                 self._near = ti.ndarray(ti.i32, shape=p.blocks)
                 self._geo = ti.Vector.ndarray(3, backend.info().real, shape=p.blocks * LANES)

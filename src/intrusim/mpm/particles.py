@@ -18,6 +18,7 @@ Components: x, v (x, z); C row by row (C_xx, C_xz, C_zx, C_zz); sigma, which is 
 import numpy as np
 import taichi as ti
 
+from ._taichi_private import free_ndarrays
 from .backend import info
 
 LANES = 8  # points per block (8 f32: Taichi's CPU target computes them as two SSE registers)
@@ -111,19 +112,10 @@ class Particles:
             self.arrays[name].from_numpy(to_blocks(_components(name, arr.astype(dtype, copy=False))))
 
     def release(self) -> None:
-        """Free the device arrays now; they must not be used after this. Taichi 1.7 frees a vector
-        ndarray's memory only at ``ti.reset`` (taichi-dev/taichi#8763: only its scalar ndarray frees
-        itself when collected), so a solver that replaces its points often (outflow through an open
-        side, a treadmill) kept every former set: 24 GB by 0.35 s of a silo at 2.5 mm cells. Where a
-        Taichi release frees them itself when collected, this leaves that to it."""
+        """Free the device arrays now (:func:`~intrusim.mpm._taichi_private.free_ndarrays`); they
+        must not be used after this."""
         arrays, self.arrays = self.arrays, {}
-        runtime = ti.lang.impl.get_runtime()
-        if runtime.prog is None:
-            return
-        ti.sync()  # no kernel still to run on them (an asynchronous device)
-        for a in arrays.values():
-            if getattr(type(a), "__del__", None) is None:
-                runtime.prog.delete_ndarray(a.arr)
+        free_ndarrays(arrays.values())
 
     def to_numpy(self, names: list[str] | None = None, pads: bool = False) -> dict[str, np.ndarray]:
         """Copy device arrays to the host in FIELDS shapes (a synchronisation: do it only at output times);
