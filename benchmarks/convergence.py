@@ -16,6 +16,9 @@ Cases (``--cases``):
   at the base cells, 5 mm); the box's bottom is an open side (outflow), 0.04 m below the floor.
   The discharge rate W (kg/s per m) is the slope of the outflow mass from 0.12 to 0.35 s; the
   exponent b of W ~ D^b is fitted over the widths (target 1.5 +- 0.1).
+* ``silo_wide``: the same slots in a silo 0.6 m wide filled 0.4 m deep (the slots 7-15 times
+  narrower than the silo, where ``silo``'s are 4-7.5 times; Beverloo's law is for slots much
+  narrower than the silo, and the deeper fill drains less of itself in the run).
 * ``wheel30``, ``wheel90``: the Table S1 grousered wheel at 30 and 90 RPM
   (``scenarios.mpm_locomotion.run_mpm_steady``, 2 s; window from 0.65 s): v and sinkage.
   Base cells 10 mm (the paper's 5 mm is the second level).
@@ -29,7 +32,8 @@ Cases (``--cases``):
 instead of the default transfer, ``--pic-time T`` with ``transfer.pic_time = T`` (not the plate),
 ``--band B`` with the band contact of ``contact_band_cells = B`` and ``--contact surface`` with the
 contact 'surface' (the former default) instead of the default contact 'nodes', each kept under its
-own key, for comparison.
+own key, for comparison. ``--silo FLOOR WIDTH FILL`` runs the silo with another floor thickness,
+width and fill depth (m; 0.02 0.3 0.2 by default), also kept under its own key.
 
     python benchmarks/convergence.py --cases collapse silo --levels 2 --threads 1 --write docs/convergence.md
 """
@@ -41,6 +45,7 @@ import json
 import math
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -76,6 +81,9 @@ def transfer(flip: float | None):
 DT_TARGET = 0.01
 H_TARGET = {"plate": 0.05, "wheel30": 0.05, "wheel90": 0.05, "footing": 0.05}
 SILO_WIDTHS = (0.04, 0.06, 0.08)  # m
+SILO_BASE = (0.02, 0.3, 0.2)  # m: the floor's thickness, the silo's width, the fill's depth
+SILO_WIDE = (0.02, 0.6, 0.4)  # the case silo_wide: slots 7-15 times narrower than the silo
+SILO: tuple[float, float, float] = SILO_BASE  # of the runs (--silo FLOOR WIDTH FILL)
 EXPONENT_TARGET = (1.5, 0.1)
 
 
@@ -119,7 +127,9 @@ def collapse(h: float, cfl: float, threads: int, flip: float | None) -> dict[str
     }
 
 
-def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: float):
+def silo_config(
+    h: float, cfl: float, threads: int, flip: float | None, width: float, geometry: tuple[float, float, float]
+):
     from intrusim.mpm.config import (
         BedConfig,
         BoundaryConfig,
@@ -133,7 +143,7 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
         WallConfig,
     )
 
-    lx, floor, thick, fill = 0.3, 0.04, 0.02, 0.2
+    (thick, lx, fill), floor = geometry, 0.04
     lz = floor + fill + 0.06
     a, b = (lx - width) / 2, (lx + width) / 2
     slabs = [
@@ -155,12 +165,12 @@ def silo_config(h: float, cfl: float, threads: int, flip: float | None, width: f
     )
 
 
-def silo(h: float, cfl: float, threads: int, flip: float | None) -> dict[str, float]:
+def silo(h: float, cfl: float, threads: int, flip: float | None, geometry=None) -> dict[str, float]:
     from intrusim.mpm.solver import Solver
 
     out: dict[str, float] = {}
     for width in SILO_WIDTHS:
-        solver = Solver(silo_config(h, cfl, threads, flip, width))
+        solver = Solver(silo_config(h, cfl, threads, flip, width, SILO if geometry is None else geometry))
         rows = solver.run()
         t = np.array([r["time"] for r in rows])
         m = np.array([r["outflow_mass"] for r in rows])
@@ -260,9 +270,11 @@ def footing(h: float, cfl: float, threads: int, flip: float | None) -> dict[str,
     return {**out, "steps": float(solver.step_count), "points": float(solver.particles.n)}
 
 
+SILO_QUANTITIES = tuple(f"W_D{w * 1e3:.0f}mm_kg_per_s_m" for w in SILO_WIDTHS) + ("exponent_b",)
 CASES = {  # name: (run, base cells h in m, the quantities of the table)
     "collapse": (collapse, 0.01, ("runout_m", "centre_m")),
-    "silo": (silo, 0.005, tuple(f"W_D{w * 1e3:.0f}mm_kg_per_s_m" for w in SILO_WIDTHS) + ("exponent_b",)),
+    "silo": (silo, 0.005, SILO_QUANTITIES),
+    "silo_wide": (partial(silo, geometry=SILO_WIDE), 0.005, SILO_QUANTITIES),
     "wheel30": (wheel(30.0), 0.01, ("v_m_per_s", "sinkage_m")),
     "wheel90": (wheel(90.0), 0.01, ("v_m_per_s", "sinkage_m")),
     "plate": (plate, 0.005, ("K_N_per_m", "lambda")),
@@ -276,6 +288,8 @@ def key(case: str, h: float, cfl: float, flip: float | None) -> str:
     variant += "" if CONTACT is None else f"|contact={CONTACT}"
     variant += "" if PIC_TIME is None else f"|pic_time={PIC_TIME:g}"
     variant += "" if FLUIDITY is None else f"|fluidity={FLUIDITY:g}"
+    if case == "silo" and SILO != SILO_BASE:
+        variant += "|silo={:g},{:g},{:g}".format(*SILO)
     return f"{case}|h={h * 1e3:g}mm|cfl={cfl:g}|{variant}"
 
 
@@ -443,6 +457,14 @@ def main() -> None:
         default=None,
         help="the nonlocal granular fluidity with this grain diameter (m) in place of the paper's law (footing, wheels)",
     )
+    ap.add_argument(
+        "--silo",
+        type=float,
+        nargs=3,
+        default=list(SILO_BASE),
+        metavar=("FLOOR", "WIDTH", "FILL"),
+        help="the silo's floor thickness, width and fill depth, m (default 0.02 0.3 0.2)",
+    )
     ap.add_argument("--write", type=Path, default=None, help="rewrite this markdown file's table (docs/convergence.md)")
     args = ap.parse_args()
     if (
@@ -452,7 +474,11 @@ def main() -> None:
         or (args.band is not None and args.band < 0)
     ):
         sys.exit("need --levels >= 1, --threads >= 1, 0 <= --flip <= 1 and --band >= 0")
-    global BAND, PIC_TIME, FLUIDITY, CONTACT
+    global BAND, PIC_TIME, FLUIDITY, CONTACT, SILO
+    SILO = tuple(args.silo)  # type: ignore[assignment]
+    thick, width, fill = SILO
+    if not (0 < thick < 0.04 and width > 2 * max(SILO_WIDTHS) and fill > 0):
+        sys.exit("--silo needs 0 < FLOOR < 0.04 (the gap below it), WIDTH > 2 x the widest slot and FILL > 0")
     BAND, PIC_TIME, FLUIDITY, CONTACT = args.band, args.pic_time, args.fluidity, args.contact
     if BAND is not None and CONTACT is not None:
         sys.exit("--band and --contact: one contact at a time")
@@ -461,7 +487,8 @@ def main() -> None:
     results = run_cases(
         args.cases, args.levels, args.levels if args.dt_levels is None else args.dt_levels, args.threads, args.flip
     )
-    print("\n".join(table(results, key("", 0.0, 0.0, args.flip).split("|", 3)[3])))
+    variant = key("silo" if SILO != SILO_BASE else "", 0.0, 0.0, args.flip).split("|", 3)[3]
+    print("\n".join(table(results, variant, every_case=SILO == SILO_BASE)))
     if args.write is not None:
         write_doc(args.write, results)
 
