@@ -125,7 +125,7 @@ def steady_line(st: MPMSteadyState) -> str:
         head = (
             f"NOT settled (the window's halves differ by {st.drift:.1%}; extend the run with --set t_max=T "
             f"or start its window later with --set settle_time=S, on the same --out{finer}: at 5 mm cells the "
-            f"Table S1 wheel never settles, at 2.5 mm it does after 3 s, docs/convergence.md): "
+            f"Table S1 wheel did not settle in 8 s, at 2.5 mm it did after 3 s, docs/convergence.md): "
             f"averages over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
         )
     return (
