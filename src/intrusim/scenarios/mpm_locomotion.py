@@ -475,6 +475,7 @@ def run_mpm_steady(
     rows = solver.rows
     series = {k: np.array([r[k] for r in rows], float) for k in SERIES_KEYS}
     meta = {
+        "scenario": scenario.name,
         "dt": solver.dt,
         "cell_size": solver.h,
         "particles": solver.particles.n,
