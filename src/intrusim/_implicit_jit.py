@@ -346,13 +346,15 @@ def _implicit_step(
 def simulate_implicit(
     spec, w_target, ramp, t_start, dt, n, x, z, th0, vx, vz, ax_ext, az_ext, inv_mx, inv_mz,
     max_iter, velocity_tol, fd_step, stall_iter, contraction, max_backtrack, max_halvings, g_rate,
-    max_speed, max_depth, surface, out, iters, info, order, xm, zm, vxm, vzm,
+    max_speed, max_depth, surface, out, iters, info, order, xm, zm, vxm, vzm, carry,
 ):  # fmt: skip
     """Fill ``out`` (9, n + 1: x, z, theta, vx, vz, omega, fx, fz, moment) and ``iters`` (n + 1,).
 
     ``order`` 2: BDF2 (``bdf2_base``) from the second step, or from the first when (xm, zm, vxm, vzm),
     the state one step before the start, is given (not NaN); backward Euler in a first step without
     it and in the sub-steps of a step whose Newton iteration failed; ``order`` 1: backward Euler.
+    ``carry`` (7,): [impulse x, impulse z, has Jacobian, j11, j12, j21, j22], the integrator's state
+    a former run left (``bodies.Carry``), updated in place to this run's at its end.
     Returns (status, step index); on failure ``info`` holds the numbers of the message.
     """
     mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
@@ -366,14 +368,15 @@ def simulate_implicit(
     out[0, 0], out[1, 0], out[2, 0], out[3, 0], out[4, 0] = x, z, th0, vx, vz
     out[5, 0], out[6, 0], out[7, 0], out[8, 0] = om, fx, fz, m
     iters[0] = 0
-    jac = np.zeros(4)
-    has_jac = np.zeros(1, np.int64)
+    jac = carry[3:7].copy()  # the Newton Jacobian a former run left (carry[2]: whether it did)
+    has_jac = np.full(1, int(carry[2]), np.int64)
     geo = np.empty((GEO_ROWS, mid.shape[0]))
     lead = np.empty((GEO_ROWS, mid.shape[0]))
     work = np.empty((3, mid.shape[0]))
     fit = alpha_constants(coef)
     v_slack = V_SLACK
     has_back = not math.isnan(xm)  # the state one step back (BDF2)
+    px, pz = carry[0], carry[1]  # the impulse (per unit mass) a former run left unbalanced
     for i in range(1, n + 1):
         ti = t_start + i * dt
         tprev = t_start + (i - 1) * dt
@@ -385,7 +388,7 @@ def simulate_implicit(
         if order == 2 and has_back:
             xb, zb, vxb, vzb, c = bdf2_base(x, z, vx, vz, xm, zm, vxm, vzm)
             st, vx1, vz1, sfx, sfz, sm, it, bn = _implicit_step(
-                spec, xb, zb, th1, vxb, vzb, om1, c * dt, ax_ext, az_ext, inv_mx, inv_mz, max_iter, velocity_tol,
+                spec, xb, zb, th1, vxb - c * px, vzb - c * pz, om1, c * dt, ax_ext, az_ext, inv_mx, inv_mz, max_iter, velocity_tol,
                 fd_step, stall_iter, contraction, max_backtrack, g_rate * c * dt, jac, has_jac, geo, lead, work, fit,
                 v_slack,
             )  # fmt: skip
@@ -393,6 +396,9 @@ def simulate_implicit(
                 info[0] = ti
                 return st, i
             if st == OK:
+                # the step's unbalanced impulse (per unit mass), made up by the next step
+                px = (vx1 - (vxb - c * px) - c * dt * (sfx * inv_mx + ax_ext)) / c
+                pz = (vz1 - (vzb - c * pz) - c * dt * (sfz * inv_mz + az_ext)) / c
                 v_slack = V_SLACK + 1.5 * max(abs(vx1 - vx), abs(vz1 - vz))
                 xm, zm, vxm, vzm = x, z, vx, vz
                 x, z, vx, vz = xb + c * dt * vx1, zb + c * dt * vz1, vx1, vz1
@@ -408,12 +414,13 @@ def simulate_implicit(
             k = 2**halvings
             h = dt / k
             xs, zs, vxs, vzs, total = x, z, vx, vz, 0
+            qx, qz = px, pz
             g_tol = g_rate * h
             failed = False
             for j in range(1, k + 1):
                 tj = tprev + j * h
                 st, vx1, vz1, sfx, sfz, sm, it, bn = _implicit_step(
-                    spec, xs, zs, th_base + _angle_at(w_target, ramp, tj), vxs, vzs, _omega_at(w_target, ramp, tj),
+                    spec, xs, zs, th_base + _angle_at(w_target, ramp, tj), vxs - qx, vzs - qz, _omega_at(w_target, ramp, tj),
                     h, ax_ext, az_ext, inv_mx, inv_mz, max_iter, velocity_tol, fd_step, stall_iter, contraction,
                     max_backtrack, g_tol, jac, has_jac, geo, lead, work, fit, v_slack,
                 )  # fmt: skip
@@ -424,9 +431,12 @@ def simulate_implicit(
                     l_norm, l_tol, l_t, l_h = bn, g_tol, tj, h
                     failed = True
                     break
+                qx = vx1 - (vxs - qx) - h * (sfx * inv_mx + ax_ext)
+                qz = vz1 - (vzs - qz) - h * (sfz * inv_mz + az_ext)
                 xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
                 fx, fz, m = sfx, sfz, sm
             if not failed:
+                px, pz = qx, qz
                 v_slack = V_SLACK + 1.5 * max(abs(vxs - vx), abs(vzs - vz))  # for the next step's leading subset
                 xm, zm, vxm, vzm = x, z, vx, vz
                 x, z, vx, vz = xs, zs, vxs, vzs
@@ -449,4 +459,6 @@ def simulate_implicit(
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, z, th1, vx, vz
         out[5, i], out[6, i], out[7, i], out[8, i] = om1, fx, fz, m
         iters[i] = total
+        carry[0], carry[1], carry[2] = px, pz, has_jac[0]
+        carry[3:7] = jac
     return OK, n

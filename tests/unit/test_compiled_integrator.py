@@ -81,16 +81,27 @@ def test_continuation_compiled():
 
 
 def test_continued_bdf2_run_equals_the_uninterrupted_one():
-    """run_steady extends its runs: the continuation starts BDF2 from the last two states."""
+    """run_steady extends its runs: the continuation starts BDF2 from the last two states and makes up
+    the impulse the former run left unbalanced."""
     sc = get_scenario("wheel")
     shape, model, drive = sc.rft_shape(), sc.build_model("drft"), sc.drive(60.0)
     s = IntegratorSettings(dt=0.005)
     one = simulate(model, sc.rigid_body(), drive, sc.initial_state(shape), 2.0, s)
     a = simulate(model, sc.rigid_body(), drive, sc.initial_state(shape), 1.0, s)
-    b = simulate(model, sc.rigid_body(), drive, a.state(-1), 1.0, s, t0=float(a.t[-1]), previous=a.state(-2))
+    b = simulate(
+        model,
+        sc.rigid_body(),
+        drive,
+        a.state(-1),
+        1.0,
+        s,
+        t0=float(a.t[-1]),
+        previous=a.state(-2),
+        carry=a.meta["carry"],
+    )
     cold = simulate(model, sc.rigid_body(), drive, a.state(-1), 1.0, s, t0=float(a.t[-1]))  # backward-Euler start
     both = a.concatenate(b)
     assert np.allclose(both.t, one.t, rtol=0, atol=1e-12)
     gap = np.max(np.abs(both.vx - one.vx))
-    assert gap < 1e-6  # within the Newton tolerance (the reused Jacobian differs)
+    assert gap < 1e-12  # the same steps: the Newton Jacobian and the unbalanced impulse carry over
     assert np.max(np.abs(cold.vx - b.vx)) > 10 * gap

@@ -255,7 +255,7 @@ def run_until_steady(
     while st.drift > run.drift_tol and extensions < run.max_extensions:  # running means still drifting
         more = simulate(
             model, body, drive, traj.state(-1), run.average_revolutions * run.period(drive.omega), settings,
-            t0=float(traj.t[-1]), previous=traj.state(-2),
+            t0=float(traj.t[-1]), previous=traj.state(-2), carry=traj.meta.get("carry"),
         )  # fmt: skip
         traj = traj.concatenate(more)
         st = steady_state(traj, shape, run.average_revolutions, surface)
