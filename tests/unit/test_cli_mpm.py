@@ -334,4 +334,4 @@ def test_the_summary_line_calls_a_drifting_window_an_average_not_a_steady_state(
     assert "halve the cells, --set cell_size=0.0025" in steady_line(sinking)
     assert "this wheel did not settle" not in steady_line(sinking)  # a body nothing was measured for
     sinking.meta["scenario"] = "grousered_wheel"  # the Table S1 wheel: what docs/convergence.md measured
-    assert "at 5 mm cells this wheel did not settle in 8 s" in steady_line(sinking)
+    assert "at 30 RPM this wheel did not settle in 8 s at 5 mm cells" in steady_line(sinking)
