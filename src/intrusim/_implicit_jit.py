@@ -459,6 +459,6 @@ def simulate_implicit(
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, z, th1, vx, vz
         out[5, i], out[6, i], out[7, i], out[8, i] = om1, fx, fz, m
         iters[i] = total
-        carry[0], carry[1], carry[2] = px, pz, has_jac[0]
-        carry[3:7] = jac
+    carry[0], carry[1], carry[2] = px, pz, has_jac[0]
+    carry[3:7] = jac
     return OK, n

@@ -271,20 +271,21 @@ def force_function(model: Any) -> ForceFn:
 def _implicit_advance(
     force: ForceFn, drive: Drive, th_base: float, x: float, z: float, vx: float, vz: float, t0: float, dt: float,
     ax_ext: float, az_ext: float, inv_mx: float, inv_mz: float, s: IntegratorSettings, g_tol_rate: float,
-    jac: list[float], bound: ElementBound | None = None, carry: tuple[float, float] = (0.0, 0.0),
+    jac: list[float], bound: ElementBound | None = None, impulse: tuple[float, float] = (0.0, 0.0),
 ) -> tuple[float, float, float, float, float, float, float, int, float, float]:  # fmt: skip
     """Advance by ``dt`` with backward Euler; if Newton fails, retry in 2, 4, ... equal sub-steps.
 
-    ``th_base`` is theta minus the drive angle (theta(t) = th_base + drive.angle_at(t)); ``carry``
-    the impulse per unit mass the former step left unbalanced (see :func:`simulate`).
-    Returns (x, z, vx, vz, fx, fz, moment, Newton iterations summed over sub-steps, carry x, carry z).
+    ``th_base`` is theta minus the drive angle (theta(t) = th_base + drive.angle_at(t)); ``impulse``
+    the impulse per unit mass the former step left unbalanced (:class:`Carry`).
+    Returns (x, z, vx, vz, fx, fz, moment, Newton iterations summed over sub-steps, and the
+    impulse per unit mass this step leaves, x and z).
     """
     last: NewtonNotConverged | None = None
     for halvings in range(s.max_halvings + 1):
         k = 2**halvings
         h = dt / k
         xs, zs, vxs, vzs, total = x, z, vx, vz, 0
-        qx, qz = carry
+        qx, qz = impulse
         try:
             for j in range(1, k + 1):
                 tj = t0 + j * h
