@@ -29,6 +29,7 @@ import numpy as np
 from intrusim._traction import alpha_constants, element_force, fit_rows, surface_params
 from intrusim.forces import CHUNK, _pseudo_angle, _wrench_kernel
 from intrusim.kinematics import bdf2_base as bdf2_base_py
+from intrusim.kinematics import unbalanced_impulse as unbalanced_impulse_py
 from intrusim.laws.bulldozing import bulldozing_wrench
 from intrusim.laws.drft import MID_ANGLE_TIE
 
@@ -43,6 +44,7 @@ TOO_DEEP = 6  # info = t, depth below the surface
 
 
 bdf2_base = numba.njit(cache=True)(bdf2_base_py)  # one copy: the Python loop calls bdf2_base_py
+unbalanced_impulse = numba.njit(cache=True)(unbalanced_impulse_py)  # likewise
 
 
 @numba.njit(cache=True)
@@ -397,8 +399,8 @@ def simulate_implicit(
                 return st, i
             if st == OK:
                 # the step's unbalanced impulse (per unit mass), made up by the next step
-                px = (vx1 - (vxb - c * px) - c * dt * (sfx * inv_mx + ax_ext)) / c
-                pz = (vz1 - (vzb - c * pz) - c * dt * (sfz * inv_mz + az_ext)) / c
+                px = unbalanced_impulse(vx1, vxb, px, c, dt, sfx * inv_mx + ax_ext)
+                pz = unbalanced_impulse(vz1, vzb, pz, c, dt, sfz * inv_mz + az_ext)
                 v_slack = V_SLACK + 1.5 * max(abs(vx1 - vx), abs(vz1 - vz))
                 xm, zm, vxm, vzm = x, z, vx, vz
                 x, z, vx, vz = xb + c * dt * vx1, zb + c * dt * vz1, vx1, vz1
@@ -431,8 +433,8 @@ def simulate_implicit(
                     l_norm, l_tol, l_t, l_h = bn, g_tol, tj, h
                     failed = True
                     break
-                qx = vx1 - (vxs - qx) - h * (sfx * inv_mx + ax_ext)
-                qz = vz1 - (vzs - qz) - h * (sfz * inv_mz + az_ext)
+                qx = unbalanced_impulse(vx1, vxs, qx, 1.0, h, sfx * inv_mx + ax_ext)
+                qz = unbalanced_impulse(vz1, vzs, qz, 1.0, h, sfz * inv_mz + az_ext)
                 xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
                 fx, fz, m = sfx, sfz, sm
             if not failed:

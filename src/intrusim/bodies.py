@@ -49,7 +49,7 @@ from typing import Any, Callable, Literal
 import numpy as np
 
 from intrusim._checks import InputError, finite, finite_array, non_negative, positive, positive_int
-from intrusim.kinematics import BodyState, bdf2_base
+from intrusim.kinematics import BodyState, bdf2_base, unbalanced_impulse
 from intrusim.params import GRAVITY
 
 ElementBound = Callable[[float, float, float, float, float, float], float]  # the largest element force, N
@@ -293,8 +293,8 @@ def _implicit_advance(
                     force, xs, zs, th_base + drive.angle_at(tj), vxs - qx, vzs - qz, drive.omega_at(tj), h,
                     ax_ext, az_ext, inv_mx, inv_mz, s, tj, g_tol_rate * h, jac, bound,
                 )  # fmt: skip
-                qx = vx1 - (vxs - qx) - h * (fx * inv_mx + ax_ext)
-                qz = vz1 - (vzs - qz) - h * (fz * inv_mz + az_ext)
+                qx = unbalanced_impulse(vx1, vxs, qx, 1.0, h, fx * inv_mx + ax_ext)
+                qz = unbalanced_impulse(vz1, vzs, qz, 1.0, h, fz * inv_mz + az_ext)
                 xs, zs, vxs, vzs, total = xs + h * vx1, zs + h * vz1, vx1, vz1, total + it
             return xs, zs, vxs, vzs, fx, fz, m, total, qx, qz
         except NewtonNotConverged as err:
@@ -471,8 +471,8 @@ def simulate(
                         s, ti, g_rate * c * dt, jac, bound,
                     )  # fmt: skip
                     step = (xb + c * dt * vx1, zb + c * dt * vz1, vx1, vz1, fx, fz, m, it)
-                    px = (vx1 - (vxb - c * px) - c * dt * (fx * inv_mx + ax_ext)) / c
-                    pz = (vz1 - (vzb - c * pz) - c * dt * (fz * inv_mz + az_ext)) / c
+                    px = unbalanced_impulse(vx1, vxb, px, c, dt, fx * inv_mx + ax_ext)
+                    pz = unbalanced_impulse(vz1, vzb, pz, c, dt, fz * inv_mz + az_ext)
                 except NewtonNotConverged:
                     jac.clear()  # then backward Euler, in sub-steps if need be
             if step is None:

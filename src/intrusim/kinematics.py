@@ -75,3 +75,13 @@ def bdf2_base(x, z, vx, vz, xm, zm, vxm, vzm):
     Plain Python: the compiled step loop (``intrusim._implicit_jit``) compiles this same function.
     """
     return (4.0 * x - xm) / 3.0, (4.0 * z - zm) / 3.0, (4.0 * vx - vxm) / 3.0, (4.0 * vz - vzm) / 3.0, 2.0 / 3.0
+
+
+def unbalanced_impulse(v1, v_base, carried, c, dt, accel):
+    """The impulse per unit mass (m/s) that an implicit step leaves unbalanced: the step ran from the
+    base velocity ``v_base`` less ``c`` x the impulse ``carried`` from the step before, over c dt
+    (BDF2: c = 2/3; backward Euler: c = 1), to ``v1`` with the acceleration ``accel`` at ``v1``.
+    Zero for a converged step; the next step makes it up (``bodies.Carry``). Plain Python: the
+    compiled step loop compiles this same function.
+    """
+    return (v1 - (v_base - c * carried) - c * dt * accel) / c
