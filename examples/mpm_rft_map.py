@@ -38,7 +38,7 @@ def main() -> None:
 
 FIELDS = [
     "beta", "gamma", "depth", "plate_length", "plate_thickness", "speed", "travel", "cell_size",
-    "contact_band_cells", "bed_height", "domain", "grid_offset", "fluidity_diameter", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
+    "contact", "contact_band_cells", "bed_height", "domain", "grid_offset", "fluidity_diameter", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
 ]  # fmt: skip
 
 
@@ -82,7 +82,8 @@ def run(
     plate_mm: float = typer.Option(25.0),
     thickness_mm: float = typer.Option(5.0, help="plate thickness (keep it 2 cells or more)"),
     cell_mm: float = typer.Option(2.5),
-    band: float = typer.Option(0.0, help="contact band, cells"),
+    contact: str = typer.Option("nodes", help="the MPM contact (its default, nodes; band, surface)"),
+    band: float = typer.Option(0.0, help="contact band, cells (with --contact band)"),
     bed_mm: float = typer.Option(150.0),
     domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
     workers: int = typer.Option(2, min=1),
@@ -96,7 +97,7 @@ def run(
     except ValueError:
         raise typer.BadParameter(f"--domain-mm must be WIDTHxHEIGHT, got {domain_mm!r}") from None
     common = dict(depth=depth_mm / 1e3, plate_length=plate_mm / 1e3, plate_thickness=thickness_mm / 1e3,
-                  cell_size=cell_mm / 1e3, contact_band_cells=band,
+                  cell_size=cell_mm / 1e3, contact=contact, contact_band_cells=band,
                   bed_height=bed_mm / 1e3, domain=(w_mm / 1e3, h_mm / 1e3), fluidity_diameter=fluidity_diameter)  # fmt: skip
     try:
         cases = map_cases(_degrees(betas), _degrees(gammas), **common)  # validates every case first
@@ -169,7 +170,8 @@ def fit(
         xi_map=xi_map, xi_table=scale_to(coef, LI2013), rms_alpha=size,
         rms_generic_scaled=float(np.sqrt(np.mean((meas - xi_map * gen) ** 2))),
         depth=float(m["depth"][0]), plate_length=float(m["plate_length"][0]), cell_size=float(m["cell_size"][0]),
-        contact_band_cells=float(m["contact_band_cells"][0]), wall_s=float(m["wall_s"].sum()), source=str(runs),
+        contact_band_cells=float(m["contact_band_cells"][0]), source=str(runs),
+        wall_s=float(m["wall_s"].sum()) if "wall_s" in m else None,  # the reference set's map keeps steps only
     )  # fmt: skip
     out.parent.mkdir(parents=True, exist_ok=True)
     write_coefficients(out.with_suffix(".json"), coef, info)

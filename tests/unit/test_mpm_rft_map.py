@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from intrusim._checks import InputError
+from intrusim.mpm.config import DEFAULT_CONTACT
 from intrusim.mpm.rft_map import PlateMapCase, map_cases, measure_alpha
 
 
@@ -32,6 +33,14 @@ def test_bad_cases_fail_before_compute():
         PlateMapCase(beta=0.0, gamma=0.0, travel=0.25)
     with pytest.raises(InputError, match="> 0"):
         PlateMapCase(beta=0.0, gamma=0.0, speed=0.0)
+    with pytest.raises(InputError, match="contact must be one of nodes, surface, band"):
+        PlateMapCase(beta=0.0, gamma=0.0, contact="nodse")
+
+
+def test_the_plate_meets_the_grains_through_the_mpm_default_contact():
+    assert PlateMapCase(beta=0.0, gamma=0.0).config().contact == DEFAULT_CONTACT == "nodes"
+    cfg = PlateMapCase(beta=0.0, gamma=0.0, contact="band", contact_band_cells=0.5).config()
+    assert (cfg.contact, cfg.contact_band_cells) == ("band", 0.5)
 
 
 def test_map_counts_the_vertical_plate_once():

@@ -87,14 +87,13 @@ def selected(only: Sequence[str] | None) -> list[str]:
 
 def alpha_map_cases(quick: bool) -> list[Any]:
     """The plates of the RFT map with the MPM's default contact (5 mm cells and two directions when ``quick``)."""
-    from intrusim.mpm.config import DEFAULT_CONTACT
     from intrusim.mpm.rft_map import PlateMapCase, map_cases
 
-    if quick:  # the MPM's default contact, as every other part of the set
-        return [PlateMapCase(beta=math.radians(b), gamma=math.radians(g), cell_size=0.005, plate_thickness=0.01,
-                             contact=DEFAULT_CONTACT) for b, g in MAP_QUICK_DEG]  # fmt: skip
+    if quick:
+        return [PlateMapCase(beta=math.radians(b), gamma=math.radians(g), cell_size=0.005, plate_thickness=0.01)
+                for b, g in MAP_QUICK_DEG]  # fmt: skip
     betas, gammas = [math.radians(b) for b in MAP_BETAS_DEG], [math.radians(g) for g in MAP_GAMMAS_DEG]
-    return map_cases(betas, gammas, contact=DEFAULT_CONTACT)
+    return map_cases(betas, gammas)
 
 
 def _alpha_case(kw: dict[str, Any], path: str) -> dict[str, Any]:

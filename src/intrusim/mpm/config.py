@@ -20,7 +20,9 @@ Vec2 = tuple[float, float]
 
 # The rigid-body contact of every MPM run unless set (MPMConfig.contact): the grid nodes inside the body
 # take its velocity, the points that touch its surface are corrected after G2P (docs/mpm.md, "Contact")
-DEFAULT_CONTACT = "nodes"
+Contact = Literal["nodes", "surface", "band"]
+CONTACTS: tuple[str, ...] = get_args(Contact)
+DEFAULT_CONTACT: Contact = "nodes"
 
 
 class _Model(BaseModel):
@@ -373,7 +375,7 @@ class MPMConfig(_Model):
     obstacles: list[ObstacleConfig] = Field(default_factory=list)
     intruders: list[IntruderConfig] = Field(default_factory=list)
     gravity: Vec2 = Field((0.0, -9.8), description="m/s^2, (gx, gz)")
-    contact: Literal["nodes", "surface", "band"] = Field(
+    contact: Contact = Field(
         DEFAULT_CONTACT,
         description="rigid-body contact (docs/mpm.md): 'nodes' (the default), the grid nodes inside the body "
         "projected and the points touching its surface corrected; 'surface', the points touching the "

@@ -24,6 +24,8 @@ from intrusim._checks import InputError
 from intrusim.laws.rft import wrap_beta
 
 from .config import (
+    CONTACTS,
+    DEFAULT_CONTACT,
     BedConfig,
     DomainConfig,
     FluidityConfig,
@@ -58,11 +60,11 @@ class PlateMapCase:
     mu_s: float = 0.56
     mu_w: float = 0.35
     youngs_modulus: float = 1.0e6  # Pa
-    # MPMConfig.contact: the band contact with band 0, as the published map (docs/results.md). The 25 mm
-    # plate pushed down: band 0 185k and 182k N/m^3 at 5 and 2.5 mm cells, "nodes" (the MPM's default;
-    # the reference set's map) 198k and 206k, "surface" 328k and 289k (docs/mpm.md)
-    contact: str = "band"
-    contact_band_cells: float = 0.0
+    # MPMConfig.contact: the MPM's default ("nodes"). The 25 mm plate pushed down: "nodes" 198k and 206k
+    # N/m^3 at 5 and 2.5 mm cells, the band contact with band 0 185k and 182k, "surface" 328k and 289k
+    # (docs/mpm.md)
+    contact: str = DEFAULT_CONTACT
+    contact_band_cells: float = 0.0  # cells, for contact = "band"
     ramp_time: float = 0.02  # s
     # the path is shifted by this many cells in +x and -z: a plate whose faces lie whole cells
     # apart then never rests with a face on a grid line, where (band 0) a node counts as inside
@@ -81,6 +83,8 @@ class PlateMapCase:
         d = self.fluidity_diameter
         if d is not None and not (math.isfinite(d) and d > 0):
             raise InputError(f"fluidity_diameter must be None or a finite number > 0, got {d!r}")
+        if self.contact not in CONTACTS:
+            raise InputError(f"contact must be one of {', '.join(CONTACTS)}, got {self.contact!r}")
         if not (math.isfinite(self.beta) and math.isfinite(self.gamma)):
             raise InputError(f"beta and gamma must be finite, got {self.beta!r}, {self.gamma!r}")
         half = 0.5 * self.plate_length * abs(math.sin(self.beta)) + 0.5 * self.plate_thickness

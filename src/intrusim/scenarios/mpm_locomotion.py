@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Callable, Literal, get_args
+from typing import Annotated, Any, Callable, get_args
 
 import numpy as np
 from pydantic import Field, field_validator, model_validator
@@ -33,7 +33,7 @@ from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
-from intrusim.mpm.config import DEFAULT_CONTACT, FluidityConfig, MuIConfig, Precision, Shape
+from intrusim.mpm.config import DEFAULT_CONTACT, Contact, FluidityConfig, MuIConfig, Precision, Shape
 from intrusim.mpm.io import atomic_file, atomic_write_bytes
 from intrusim.params import table_s1
 from intrusim.scenarios.base import Config
@@ -117,7 +117,7 @@ class MPMSettings(Config):
     pic_time: float | None = Field(None, gt=0.0)
     shape: Shape = "quadratic"
     drop_escaped: bool = False
-    contact: Literal["nodes", "surface", "band"] = DEFAULT_CONTACT  # MPMConfig.contact
+    contact: Contact = DEFAULT_CONTACT  # MPMConfig.contact
     contact_band_cells: float = Field(1.0, ge=0.0)
     arch: str = "cpu"
     precision: Precision = "f32"  # the backend's: f32 or f64
