@@ -26,6 +26,7 @@ import numpy as np
 import typer
 
 from intrusim._checks import InputError
+from intrusim.mpm.config import DEFAULT_CONTACT
 from intrusim.mpm.rft_map import PlateMapCase, case_record, map_cases, measure_alpha
 
 app = typer.Typer(add_completion=False, no_args_is_help=True)
@@ -82,7 +83,7 @@ def run(
     plate_mm: float = typer.Option(25.0),
     thickness_mm: float = typer.Option(5.0, help="plate thickness (keep it 2 cells or more)"),
     cell_mm: float = typer.Option(2.5),
-    contact: str = typer.Option("nodes", help="the MPM contact (its default, nodes; band, surface)"),
+    contact: str = typer.Option(DEFAULT_CONTACT, help="the MPM contact: nodes (its default), band, surface"),
     band: float = typer.Option(0.0, help="contact band, cells (with --contact band)"),
     bed_mm: float = typer.Option(150.0),
     domain_mm: str = typer.Option("300x200", help="WIDTHxHEIGHT"),
