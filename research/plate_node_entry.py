@@ -28,10 +28,10 @@ import numpy as np
 def deepest_drop(t: np.ndarray, alpha: np.ndarray, window: tuple[float, float]) -> float:
     """How far the lowest alpha in the window (fractions of the run, as measure_alpha) lies below
     the window's median, as a fraction of that median."""
+    from intrusim.mpm.rft_map import in_window
+
     t, alpha = np.asarray(t, float), np.asarray(alpha, float)
-    sel = (t > window[0] * t[-1]) & (t <= window[1] * t[-1])
-    if not sel.any():
-        raise ValueError(f"no records in the window {window}")
+    sel = in_window(t, window)
     med = float(np.median(alpha[sel]))
     return (med - float(alpha[sel].min())) / med
 
@@ -71,7 +71,7 @@ def main() -> None:
     import matplotlib.pyplot as plt
 
     from intrusim.mpm.config import MPMConfig
-    from intrusim.mpm.rft_map import PlateMapCase, measure_alpha
+    from intrusim.mpm.rft_map import PlateMapCase, alpha_history, measure_alpha
     from intrusim.mpm.solver import Solver
 
     h = args.cell_mm / 1e3
@@ -87,9 +87,8 @@ def main() -> None:
                 rows = Solver(MPMConfig.model_validate(data)).run()
                 a = measure_alpha(rows, case)
                 comp = "z" if abs(a["alpha_z"]) >= abs(a["alpha_x"]) else "x"  # the larger component
-                t = np.array([r["time"] for r in rows])
-                depth = case.bed_height - np.array([r["z"] for r in rows])
-                alpha = np.array([r["f" + comp] for r in rows]) / (case.plate_length * depth)
+                t, history, _ = alpha_history(rows, case)
+                alpha = history[:, "xz".index(comp)]
                 drop = deepest_drop(t, np.sign(a["alpha_" + comp]) * alpha, (0.5, 1.0))
                 rows_out.append({"contact": contact, "cell_mm": args.cell_mm, "cfl": cfl, "beta_deg": beta,
                                  "gamma_deg": gamma, "alpha_x": round(a["alpha_x"], 1), "alpha_z": round(a["alpha_z"], 1),

@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from intrusim._checks import InputError
+
 SCRIPT = Path(__file__).resolve().parents[1] / "plate_node_entry.py"
 spec = importlib.util.spec_from_file_location("plate_node_entry", SCRIPT)
 pne = importlib.util.module_from_spec(spec)
@@ -18,7 +20,7 @@ def test_the_deepest_drop_is_measured_below_the_window_median_and_only_in_the_wi
     t = np.linspace(0.0, 1.0, 11)
     alpha = np.array([0.0, 50.0, 100, 100, 100, 100, 100, 100, 80, 100, 100])  # the start's low values are outside
     assert pne.deepest_drop(t, alpha, (0.5, 1.0)) == pytest.approx(0.2)
-    with pytest.raises(ValueError, match="no records"):
+    with pytest.raises(InputError, match="no records"):
         pne.deepest_drop(t, alpha, (1.0, 1.0))
 
 

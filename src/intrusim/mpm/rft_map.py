@@ -150,17 +150,29 @@ class PlateMapCase:
         )
 
 
-def measure_alpha(rows: list[dict], case: PlateMapCase, window: tuple[float, float] = (0.5, 1.0)) -> dict:
-    """alpha = F / (L |z|) over a fraction ``window`` of the run (N/m^3): mean and standard deviation."""
+def alpha_history(rows: list[dict], case: PlateMapCase) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The run's record times (s), alpha = F / (L |z|) at each (N/m^3, columns x and z) and the
+    plate centre's depth |z| (m)."""
     t = np.array([r["time"] for r in rows])
     f = np.array([[r["fx"], r["fz"]] for r in rows])
     depth = case.bed_height - np.array([r["z"] for r in rows])
     if np.any(depth <= 0):
         raise InputError("the plate centre rose above the initial surface")
-    a = f / (case.plate_length * depth[:, None])
+    return t, f / (case.plate_length * depth[:, None]), depth
+
+
+def in_window(t: np.ndarray, window: tuple[float, float]) -> np.ndarray:
+    """The records in the fraction ``window`` of the run (t[-1] its end); InputError if none."""
     sel = (t > window[0] * t[-1]) & (t <= window[1] * t[-1])
     if not sel.any():
         raise InputError(f"no records in the window {window} of the run")
+    return sel
+
+
+def measure_alpha(rows: list[dict], case: PlateMapCase, window: tuple[float, float] = (0.5, 1.0)) -> dict:
+    """alpha = F / (L |z|) over a fraction ``window`` of the run (N/m^3): mean and standard deviation."""
+    t, a, depth = alpha_history(rows, case)
+    sel = in_window(t, window)
     return {
         "alpha_x": float(a[sel, 0].mean()),
         "alpha_z": float(a[sel, 1].mean()),
