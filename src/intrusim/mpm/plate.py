@@ -130,10 +130,13 @@ class VerticalPlateCase:
         )
 
 
+def window_mask(t: np.ndarray, window: tuple[float, float]) -> np.ndarray:
+    """The records whose time lies in the fraction ``window`` of the run, (w0 t_end, w1 t_end]."""
+    return (t > window[0] * t[-1]) & (t <= window[1] * t[-1])
+
+
 def steady_force(rows: list[dict], key: str = "fx", window: tuple[float, float] = (0.5, 1.0)) -> float:
     """Mean of ``key`` over a fraction window of the recorded run (forces in N, here N/m)."""
     t = np.array([r["time"] for r in rows])
     f = np.array([r[key] for r in rows])
-    t_end = t[-1]
-    sel = (t > window[0] * t_end) & (t <= window[1] * t_end)
-    return float(np.mean(f[sel]))
+    return float(np.mean(f[window_mask(t, window)]))

@@ -37,7 +37,7 @@ from .config import (
     Rectangle,
     TimeConfig,
 )  # fmt: skip
-from .plate import plate_polygon
+from .plate import plate_polygon, window_mask
 
 
 @dataclass
@@ -163,7 +163,7 @@ def alpha_history(rows: list[dict], case: PlateMapCase) -> tuple[np.ndarray, np.
 
 def in_window(t: np.ndarray, window: tuple[float, float]) -> np.ndarray:
     """The records in the fraction ``window`` of the run (t[-1] its end); InputError if none."""
-    sel = (t > window[0] * t[-1]) & (t <= window[1] * t[-1])
+    sel = window_mask(t, window)
     if not sel.any():
         raise InputError(f"no records in the window {window} of the run")
     return sel
