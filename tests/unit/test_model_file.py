@@ -32,6 +32,24 @@ def test_a_model_drives_another_body_with_its_own_push_and_geometry():
     assert no_push.external_fx == small.external_fx == 0.0
 
 
+def test_a_runner_keeps_no_structural_correction_as_calibrate_checks_it():
+    """The rear-half correction is a wheel's: a model calibrated with it drives a runner without it
+    (as `calibrate --check runner=...` compares it), and the runner then runs at 10 and 20 RPM, where
+    the wheel's zone on the runner's flaps left Newton without a root (IntegratorError)."""
+    from intrusim.scenarios import four_flap_runner_scenario
+
+    m = _model(xi=0.545, lam=0.09, psi_slope=0.60, psi_offset=0.31, structural="wheel-rear-half-effective")
+    runner = m.apply(four_flap_runner_scenario())
+    assert runner.force_model.structural == "none"
+    assert runner.force_model == with_parameters(four_flap_runner_scenario(), {"xi": 0.545, "lam": 0.09}).force_model.validated_copy(
+        psi_slope=0.60, psi_offset=0.31, internal_friction=m.force_model.internal_friction, rho=m.force_model.rho
+    )
+    assert m.apply(small_wheel_scenario()).force_model.structural == "wheel-rear-half-effective"
+    for rpm in (10.0, 20.0):
+        st = run_steady(runner, m.kind, rpm)
+        assert 0.0 < st.velocity and 0.0 < st.sinkage
+
+
 def test_a_model_file_round_trips_and_keeps_its_table_beside_it(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "tables").mkdir()

@@ -5,7 +5,9 @@ The file (JSON) holds the force model's kind, every :class:`~intrusim.scenarios.
 field as calibrated, whether the body gets the constant forward push of the MPM runs it was
 calibrated on (``mpm_push``: the push is the body's own, recomputed for whichever body the model
 drives), and a record of the fit. Applied to a scenario, it replaces that scenario's force model:
-the medium and the corrections are the model's, the body is the scenario's.
+the medium and the corrections are the model's, the body is the scenario's. The structural
+correction is a wheel's (the rear of its contact arc): a body that has none of its own (the runner)
+keeps none, as ``intrusim calibrate --check`` runs it.
 """
 
 from __future__ import annotations
@@ -47,10 +49,14 @@ class ModelFile(Config):
     fit: dict[str, Any] = Field(default_factory=dict)
 
     def apply(self, scenario: LocomotorScenario) -> LocomotorScenario:
-        """``scenario`` driven by this model: its force model replaced, the MPM push its own."""
+        """``scenario`` driven by this model: its force model replaced (a body without a structural
+        correction of its own keeps none), the MPM push its own."""
         from intrusim.analysis.calibration import with_mpm_push
 
-        s = scenario.validated_copy(force_model=self.force_model.model_dump())
+        fm = self.force_model.model_dump()
+        if scenario.force_model.structural == "none":
+            fm["structural"] = "none"
+        s = scenario.validated_copy(force_model=fm)
         return with_mpm_push(s) if self.mpm_push else s
 
 
