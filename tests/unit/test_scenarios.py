@@ -151,3 +151,23 @@ def test_load_scenario_takes_the_small_wheel_spelt_either_way():
     assert load_scenario("small_wheel") == load_scenario("small-wheel") == get_scenario("small-wheel")
     with pytest.raises(InputError, match="small-wheel"):
         load_scenario("smallwheel")
+
+
+@pytest.mark.parametrize("name", ["wheel", "runner"])
+def test_finer_elements_keeps_the_body_and_its_outline(name):
+    """factor x the elements on every rim segment and lug face; the total area, the outline's reach
+    and everything but the discretisation unchanged (the rim's polygon gets the finer arcs); a
+    factor that is not a whole number >= 1 refused."""
+    s = get_scenario(name)
+    f = s.finer_elements(3)
+    a, b = s.rft_shape(), f.rft_shape()
+    assert len(b.elements.area) == 3 * len(a.elements.area)
+    assert b.elements.area.sum() == pytest.approx(a.elements.area.sum(), rel=1e-12)
+    assert np.hypot(*b.polygon.T).max() == pytest.approx(np.hypot(*a.polygon.T).max(), rel=1e-12)
+    assert np.hypot(*b.polygon.T).min() == pytest.approx(np.hypot(*a.polygon.T).min(), rel=1e-3)
+    assert f.model_dump(exclude={"hub_elements_per_segment", "lug_elements_per_face"}) == s.model_dump(
+        exclude={"hub_elements_per_segment", "lug_elements_per_face"}
+    )
+    for bad in (0, 1.5, True):
+        with pytest.raises(InputError):
+            s.finer_elements(bad)

@@ -30,7 +30,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from intrusim._checks import InputError, finite
+from intrusim._checks import InputError, finite, positive_int
 from intrusim.bodies import Drive, RigidBody
 from intrusim.geometry import Shape, hub_with_lugs
 from intrusim.kinematics import BodyState
@@ -107,6 +107,15 @@ class LocomotorScenario(ModelKindsMixin):
     def rft_shape(self) -> Shape:
         """Shape whose elements RFT sees (lugs at lug_height_scale); polygon = true outline."""
         return self._shape(self.lug_height_scale)
+
+    def finer_elements(self, factor: int) -> "LocomotorScenario":
+        """This body with ``factor`` x as many RFT elements on every rim segment and lug face (the
+        rim's outline polygon takes the finer arcs too): the element-converged answer of a model,
+        against which its default discretisation is measured (benchmarks/bench_integrator.py)."""
+        f = positive_int("factor", factor)
+        return self.validated_copy(
+            hub_elements_per_segment=self.hub_elements_per_segment * f, lug_elements_per_face=self.lug_elements_per_face * f
+        )
 
     @property
     def radius(self) -> float:
