@@ -114,7 +114,8 @@ class LocomotorScenario(ModelKindsMixin):
         against which its default discretisation is measured (benchmarks/bench_integrator.py)."""
         f = positive_int("factor", factor)
         return self.validated_copy(
-            hub_elements_per_segment=self.hub_elements_per_segment * f, lug_elements_per_face=self.lug_elements_per_face * f
+            hub_elements_per_segment=self.hub_elements_per_segment * f,
+            lug_elements_per_face=self.lug_elements_per_face * f,
         )
 
     @property
