@@ -130,6 +130,8 @@ def steady(
         f"{scn.name}, {_model_name(model, kind)} (lambda = {st.meta['lam']:g}), omega = {omega_rpm:g} RPM, dt = {st.meta['dt'] * 1e3:.3g} ms, "
         f"window {st.window[0]:.2f}-{st.window[1]:.2f} s ({st.revolutions} rev){'' if st.settled else ', NOT SETTLED'}"
     )
+    if st.meta.get("retried"):
+        typer.echo(f"note: run with {st.meta['retried']}")
     typer.echo(
         f"{'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | {'v/sqrt(gl)':>10} | {'sinkage/l':>9} | {'omega/omega0':>12}"
     )

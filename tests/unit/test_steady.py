@@ -12,7 +12,7 @@ from intrusim.analysis.steady import (
     steady_state,
     window_means,
 )
-from intrusim.bodies import Drive, IntegratorSettings, RigidBody, simulate
+from intrusim.bodies import Drive, IntegratorError, IntegratorSettings, RigidBody, simulate
 from intrusim.geometry import circle, polygon_shape
 from intrusim.kinematics import BodyState
 
@@ -139,3 +139,47 @@ def test_window_drift_is_the_larger_change_between_the_halves():
     assert window_drift(v, sk, radius=0.1) == pytest.approx(0.2 / 1.1)
     assert window_drift([1.0] * 4, sk, radius=0.001) == pytest.approx(1.0)  # the sinkage term wins
     assert window_drift([0.3], [0.04], radius=0.1) == 0.0  # one sample: no halves
+
+
+def _zone_wheel():
+    """The 30-grouser wheel with the blind calibration's force model (the effective rear-half zone):
+    at 5 RPM its default step leaves Newton without a root within 8 sub-steps."""
+    from intrusim.analysis.calibration import with_mpm_push
+    from intrusim.scenarios import load_scenario
+
+    s = load_scenario("wheel-30-grousers")
+    fm = s.force_model.validated_copy(
+        xi=0.545, lam=0.0912, psi_slope=0.604, psi_offset=0.311, structural="wheel-rear-half-effective"
+    )
+    return with_mpm_push(s.validated_copy(force_model=fm.model_dump()))
+
+
+def test_a_failed_run_is_made_again_with_finer_steps_and_says_so(tmp_path):
+    from intrusim.analysis.steady import FINER_STEP, run_steady, run_until_steady
+    from intrusim.analysis.sweep import SweepResult, sweep_omega
+
+    s = _zone_wheel()
+    shape, drive = s.rft_shape(), s.drive(5.0)
+    with pytest.raises(IntegratorError, match="did not converge"):
+        run_until_steady(s.build_model("drft"), shape, s.rigid_body(), drive, s.initial_state(shape), s.run)
+    st = run_steady(s, "drft", 5.0)
+    assert st.meta["retried"].startswith(f"{FINER_STEP} x finer steps") and "did not converge" in st.meta["retried"]
+    finer = s.run.model_copy(
+        update=dict(dt_max=s.run.dt_max / FINER_STEP, steps_per_revolution=4 * s.run.steps_per_revolution)
+    )
+    direct = run_steady(s.model_copy(update=dict(run=finer)), "drft", 5.0)
+    assert st.velocity == direct.velocity and st.sinkage == direct.sinkage and direct.meta["retried"] is None
+    res = sweep_omega(s, "drft", [5.0], parallel=False, progress=False)
+    assert res.records[0]["ok"] and "finer step" in res.table()
+    back = SweepResult.from_csv(res.to_csv(tmp_path / "s.csv"))
+    assert back.records[0]["retried"] == st.meta["retried"] and back.records[0]["velocity"] == st.velocity
+
+
+def test_a_run_that_fails_at_finer_steps_too_names_both_tries():
+    from intrusim.analysis.steady import run_steady
+    from intrusim.scenarios import get_scenario
+
+    s = get_scenario("wheel")
+    heavy = s.model_copy(update={"mass_z": 1e5, "run": s.run.model_copy(update={"max_extensions": 0})})
+    with pytest.raises(IntegratorError, match="with 4 x finer steps; at the default step: .*sank"):
+        run_steady(heavy, "rft", 30.0)

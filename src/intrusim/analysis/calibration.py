@@ -62,9 +62,6 @@ PARAMETERS: dict[str, Parameter] = {
 FAILED_RESIDUAL = 10.0
 """Relative error given to a DRFT point that fails (integrator error, no contact): 1000 %."""
 
-FINER_STEP = 4
-"""A failed DRFT point is retried once with its time step divided by this."""
-
 
 # --- the free-surface law from the measured rear drop (Fig 5C) ------------------------------------
 def _psi_data(
@@ -194,26 +191,12 @@ def with_mpm_push(scenario: LocomotorScenario) -> LocomotorScenario:
 
 
 def drft_steady_states(scenario: LocomotorScenario, omega_rpm: Sequence[float], kind: str = "drft") -> SweepResult:
-    """Serial DRFT steady states at ``omega_rpm``; a failed point is retried once with a finer step.
+    """Serial DRFT steady states at ``omega_rpm`` (a point whose integration fails is retried once
+    with a finer step by :func:`~intrusim.analysis.steady.run_steady`).
 
     Points that still fail stay error records (NaN velocity and sinkage).
     """
-    res = sweep_omega(scenario, kind, omega_rpm, parallel=False, progress=False)
-    bad = [i for i, r in enumerate(res.records) if not r["ok"]]
-    if bad:
-        run = scenario.run.model_copy(
-            update=dict(dt_max=scenario.run.dt_max / FINER_STEP, steps_per_revolution=scenario.run.steps_per_revolution * FINER_STEP)
-        )  # fmt: skip
-        retry = sweep_omega(
-            scenario.model_copy(update=dict(run=run)),
-            kind,
-            [res.records[i]["omega_rpm"] for i in bad],
-            parallel=False,
-            progress=False,
-        )
-        for i, rec in zip(bad, retry.records):
-            res.records[i] = rec
-    return res
+    return sweep_omega(scenario, kind, omega_rpm, parallel=False, progress=False)
 
 
 @dataclass(frozen=True)

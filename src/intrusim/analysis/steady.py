@@ -24,7 +24,7 @@ import numba
 import numpy as np
 
 from intrusim._checks import InputError, finite
-from intrusim.bodies import IntegratorSettings, Trajectory, simulate
+from intrusim.bodies import IntegratorError, IntegratorSettings, Trajectory, simulate
 from intrusim.geometry import Shape
 
 
@@ -266,6 +266,10 @@ def run_until_steady(
     return st
 
 
+FINER_STEP = 4
+"""A steady state whose integration fails is run once more with its time step divided by this."""
+
+
 def run_steady(
     scenario: Any, kind: str = "drft", omega_rpm: float = 30.0, lam: float | None = None, *, compiled: bool = True
 ) -> SteadyState:
@@ -283,6 +287,9 @@ def run_steady(
     -------
     SteadyState averaged over the scenario's ``run.average_revolutions`` last revolutions,
     after the run has been extended until it stops drifting (see :func:`run_until_steady`).
+    A run whose integration fails (:class:`~intrusim.bodies.IntegratorError`) is made once more
+    with ``FINER_STEP`` x finer steps; ``meta["retried"]`` then says why. If that fails too, its
+    error is raised.
     """
     w = finite("omega_rpm", omega_rpm)
     if w <= 0.0:
@@ -290,8 +297,19 @@ def run_steady(
     model = scenario.build_model(kind, lam)
     shape = scenario.rft_shape()
     drive = scenario.drive(w)
-    st = run_until_steady(
-        model, shape, scenario.rigid_body(), drive, scenario.initial_state(shape), scenario.run, compiled=compiled
-    )
-    st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam)
+    start = (model, shape, scenario.rigid_body(), drive, scenario.initial_state(shape))
+    retried = None
+    try:
+        st = run_until_steady(*start, scenario.run, compiled=compiled)
+    except IntegratorError as err:
+        run = scenario.run
+        finer = run.model_copy(
+            update=dict(dt_max=run.dt_max / FINER_STEP, steps_per_revolution=run.steps_per_revolution * FINER_STEP)
+        )
+        try:
+            st = run_until_steady(*start, finer, compiled=compiled)
+        except IntegratorError as again:
+            raise IntegratorError(f"{again} (with {FINER_STEP} x finer steps; at the default step: {err})") from None
+        retried = f"{FINER_STEP} x finer steps, the default step failed: {err}"
+    st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam, retried=retried)
     return st

@@ -22,6 +22,7 @@ from intrusim._checks import InputError
 from intrusim.analysis.steady import run_steady
 from intrusim.errors import PROGRAMMING_ERRORS
 
+TEXT_FIELDS = ("error", "retried")  # the CSV columns read back as text
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
 MAX_POINTS = 10_000  # omegas of one sweep
@@ -67,8 +68,12 @@ def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -
 
 
 def steady_record(omega_rpm: float, st: Any) -> dict[str, Any]:
-    """A finished steady state (its ``summary()`` and ``settled``) as a flat sweep record."""
-    return {"omega_rpm": omega_rpm, "ok": True, "error": "", **st.summary(), "settled": bool(st.settled)}
+    """A finished steady state (its ``summary()`` and ``settled``) as a flat sweep record; a point
+    that needed a finer step (``meta["retried"]``, :func:`~intrusim.analysis.steady.run_steady`)
+    says so in a ``retried`` column."""
+    rec = {"omega_rpm": omega_rpm, "ok": True, "error": "", **st.summary(), "settled": bool(st.settled)}
+    retried = getattr(st, "meta", {}).get("retried")
+    return {**rec, "retried": retried} if retried else rec
 
 
 @dataclass(frozen=True)
@@ -101,7 +106,11 @@ class SweepResult:
         lines = [f"{'omega RPM':>9} | {'v m/s':>8} | {'sinkage mm':>10} | {'slip':>6} | note"]
         for r in self.records:
             if r["ok"]:
-                note = "" if r.get("settled", True) else "not settled"
+                note = ", ".join(
+                    n
+                    for n, on in (("not settled", not r.get("settled", True)), ("finer step", bool(r.get("retried"))))
+                    if on
+                )
                 lines.append(
                     f"{r['omega_rpm']:9.4g} | {r['velocity']:8.4f} | {r['sinkage'] * 1e3:10.2f} | {r['slip']:6.3f} | {note}"
                 )
@@ -131,7 +140,7 @@ class SweepResult:
     def from_csv(cls, path: str | Path, scenario: str = "", kind: str = "") -> "SweepResult":
         """Read records written by :meth:`to_csv` (e.g. ``runs/mpm/*_mpm_sweep.csv``).
 
-        ``ok`` and ``settled`` become booleans, ``error`` stays text, every other column a float
+        ``ok`` and ``settled`` become booleans, ``error`` and ``retried`` stay text, every other column a float
         (an empty cell: NaN). Rows keep the file's order. Raises InputError if the file is
         missing or has no ``omega_rpm`` / ``ok`` column.
         """
@@ -148,7 +157,7 @@ class SweepResult:
             for k, v in row.items():
                 if k in ("ok", "settled"):
                     rec[k] = v.strip().lower() in ("true", "1", "1.0")
-                elif k == "error":
+                elif k in TEXT_FIELDS:
                     rec[k] = v
                 else:
                     rec[k] = float(v) if v.strip() else math.nan
