@@ -228,7 +228,7 @@ def tall_grouser_wheel_scenario() -> LocomotorScenario:
     )
 
 
-RUNNER_STEPS_PER_REVOLUTION, RUNNER_DT_MAX = 600, 0.004
+RUNNER_STEPS_PER_REVOLUTION, RUNNER_DT_MAX = 200, 0.004
 
 
 def four_flap_runner_scenario(lam: float = 4.0) -> LocomotorScenario:
@@ -243,9 +243,10 @@ def four_flap_runner_scenario(lam: float = 4.0) -> LocomotorScenario:
         length_scale=r["outer_diameter"], supported_models=ALL_KINDS,
         force_model=ForceModelConfig(xi=ps["rft_scaling_coefficient"], rho=ps["critical_density"], lam=lam, structural="none",
                                      internal_friction=ps["internal_friction"]),
-        # its long flaps make its steady state ~10x more step-sensitive than the wheel's: 600 steps a
-        # revolution, of at most 4 ms, keep v and sinkage within 0.1 % of the dt -> 0 answer at 10-300 RPM
-        # (400 steps of at most 10 ms: 0.2 %; benchmarks/bench_integrator.py, docs/locomotion.md)
+        # its long flaps make its steady state more step-sensitive than the wheel's: 200 steps a
+        # revolution, of at most 4 ms, keep v and sinkage within 0.12 % of the dt -> 0 answer at 10-300 RPM
+        # (600 steps: 0.03 %, at 3 x the cost; 400 steps of at most 10 ms: 0.2 %; benchmarks/bench_integrator.py,
+        # docs/locomotion.md)
         run=RunConfig(steps_per_revolution=RUNNER_STEPS_PER_REVOLUTION, dt_max=RUNNER_DT_MAX),
     )  # fmt: skip
 
