@@ -27,12 +27,14 @@ from intrusim.analysis.steady import whole_windows, window_means  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
 
 
-def windows(run_dir: Path, every: float, whole_only: bool = False) -> list[dict]:
+def windows(run_dir: Path, every: float, whole_only: bool = False, until: float | None = None) -> list[dict]:
     """Mean v (m/s) and sinkage (m) over consecutive windows [t, t + every) of one run; the last
-    one may be partial (it ends after the run's last record) unless ``whole_only``."""
+    one may be partial (it ends after the run's last record) unless ``whole_only``; with ``until``,
+    only the windows that end by then."""
     series = summarise_run(run_dir, t_start=0.0).series
     rows = window_means(series["time"], {"velocity": series["vx"], "sinkage": series["sinkage"]}, every,
                         whole_only=whole_only)  # fmt: skip
+    rows = rows if until is None else [r for r in rows if r["t_end"] <= until + 1e-9]
     if not whole_only and rows and rows[-1]["t_end"] > whole_windows(series["time"], every) * every + 1e-9:
         print(f"{run_dir.name}: the last window, {rows[-1]['t_start']:g}-{rows[-1]['t_end']:g} s, is partial (the run "
               f"ends at {series['time'][-1]:g} s); --whole-only leaves it out", file=sys.stderr)  # fmt: skip
@@ -58,6 +60,7 @@ def main() -> None:
         action="store_true",
         help="only windows the run covers whole (default: the last one may be partial, with a warning)",
     )
+    ap.add_argument("--until", type=float, default=None, metavar="T", help="only the windows that end by T s")
     ap.add_argument("--title", default="")
     ap.add_argument("--out", required=True, help="output stem: OUT.csv and OUT.png")
     args = ap.parse_args()
@@ -75,7 +78,7 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=["run", "label", "t_start", "t_end", "velocity", "sinkage"])
         w.writeheader()
         for run, label in zip(args.runs, labels):
-            rows = windows(run, args.every, args.whole_only)
+            rows = windows(run, args.every, args.whole_only, args.until)
             for r in rows:
                 w.writerow({"run": run.name, "label": label, **r})
             mid = [0.5 * (r["t_start"] + r["t_end"]) for r in rows]

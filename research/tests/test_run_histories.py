@@ -41,3 +41,8 @@ def test_the_warning_and_whole_only_read_one_criterion(script, capsys):
     rows = script.windows(Path("run"), 0.3345)
     assert capsys.readouterr().err == ""
     assert rows == script.windows(Path("run"), 0.3345, whole_only=True) and len(rows) == 3
+
+
+def test_until_keeps_the_windows_that_end_by_then(script):
+    rows = script.windows(Path("run"), 0.3, until=0.6)
+    assert [round(r["t_end"], 6) for r in rows] == [0.3, 0.6]
