@@ -181,5 +181,6 @@ def test_a_run_that_fails_at_finer_steps_too_names_both_tries():
 
     s = get_scenario("wheel")
     heavy = s.model_copy(update={"mass_z": 1e5, "run": s.run.model_copy(update={"max_extensions": 0})})
-    with pytest.raises(IntegratorError, match="with 4 x finer steps; at the default step: .*sank"):
+    with pytest.raises(IntegratorError, match="with 4 x finer steps; at the default step: .*sank") as err:
         run_steady(heavy, "rft", 30.0)
+    assert "[run] dt_max (now 0.01 s) and steps_per_revolution (now 72)" in str(err.value)

@@ -309,7 +309,10 @@ def run_steady(
         try:
             st = run_until_steady(*start, finer, compiled=compiled)
         except IntegratorError as again:
-            raise IntegratorError(f"{again} (with {FINER_STEP} x finer steps; at the default step: {err})") from None
+            raise IntegratorError(
+                f"{again} (with {FINER_STEP} x finer steps; at the default step: {err}). A scenario TOML sets the "
+                f"step: [run] dt_max (now {run.dt_max:g} s) and steps_per_revolution (now {run.steps_per_revolution})"
+            ) from None
         retried = f"{FINER_STEP} x finer steps, the default step failed: {err}"
     st.meta.update(scenario=scenario.name, kind=kind, omega_rpm=w, lam=model.lam, retried=retried)
     return st
