@@ -47,8 +47,8 @@ def test_stalled_steps_do_not_bias_a_wheel_with_bulldozing():
 
 
 def test_at_10_rpm_the_fine_step_follows_the_elements_and_the_default_the_converged_model():
-    """The bulldozing wheel at 10 RPM: its rim elements meet the grains one at a time (a lift jump
-    every 20 ms) and its 6.3 kg answer in about 3 ms, which a step of 1/16 of the default follows and
+    """The bulldozing wheel at 10 RPM: its elements meet the grains one at a time (a lift jump of
+    about 1 N every 17 ms) and its 6.3 kg answer in about 3 ms, which a step of 1/16 of the default follows and
     the default (9.8 ms) does not. That sawtooth slows the wheel by 0.65 % with the paper's elements
     and by 0.04 % with 4 x as many: it is the element discretisation's error, not the model's
     answer. The default step gives the element-converged answer (dt / 16, 4 x the elements) within
