@@ -61,10 +61,6 @@ ELEMENTS = 4  # the converged reference's elements: the default x ELEMENTS
 FORMER_STEPS, FORMER_DT_MAX = 100, 0.01  # the former default step: min(10 ms, revolution / 100)
 
 
-def with_run(scenario, **update):
-    return scenario.model_copy(update={"run": scenario.run.model_copy(update=update)})
-
-
 def former(scenario, rpm: float):
     """The steady state with the former defaults: backward Euler, min(10 ms, revolution / 100)."""
     drive, shape = scenario.drive(rpm), scenario.rft_shape()
@@ -102,11 +98,8 @@ def main() -> None:
             rt = float(st.trajectory.t[-1]) / min(times)
             dt = st.meta["dt"]
             period = scen.run.period(st.omega)
-            fine = dict(
-                steps_per_revolution=int(round(REFINE * period / dt)), dt_max=dt / REFINE, average_revolutions=8
-            )
-            ref = run_steady(with_run(scen, **fine), "drft", rpm)
-            conv = run_steady(with_run(scen.finer_elements(ELEMENTS), **fine), "drft", rpm)
+            ref = run_steady(scen.finer_steps(dt, st.omega, REFINE), "drft", rpm)
+            conv = run_steady(scen.finer_elements(ELEMENTS).finer_steps(dt, st.omega, REFINE), "drft", rpm)
             old = former(scen, rpm)
             err = (pct(st.velocity, ref.velocity), pct(st.sinkage, ref.sinkage),
                    pct(st.velocity, conv.velocity), pct(st.sinkage, conv.sinkage),

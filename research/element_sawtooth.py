@@ -30,16 +30,6 @@ from intrusim.scenarios import get_scenario  # noqa: E402
 REFINE = 16  # the fine step: the default / REFINE
 
 
-def fine_steps(scenario, default_dt: float, omega: float):
-    """``scenario`` at 1/REFINE of ``default_dt``, averaged over 8 revolutions."""
-    period = scenario.run.period(omega)
-    run = scenario.run.model_copy(
-        update=dict(steps_per_revolution=round(REFINE * period / default_dt), dt_max=default_dt / REFINE,
-                    average_revolutions=8)
-    )  # fmt: skip
-    return scenario.model_copy(update=dict(run=run))
-
-
 def runs(rpm: float, k_b: float, factors=(1, 2, 4, 8)) -> list[dict]:
     """Steady states at the default step and at 1/REFINE of it, for each element factor."""
     base = with_parameters(with_mpm_push(get_scenario("wheel")), {"bulldozing": k_b})
@@ -47,7 +37,7 @@ def runs(rpm: float, k_b: float, factors=(1, 2, 4, 8)) -> list[dict]:
     for f in factors:
         sc = base.finer_elements(f)
         st = run_steady(sc, "drft", rpm)
-        fine = run_steady(fine_steps(sc, st.meta["dt"], st.omega), "drft", rpm)
+        fine = run_steady(sc.finer_steps(st.meta["dt"], st.omega, REFINE), "drft", rpm)
         for step, s in (("default", st), (f"default / {REFINE}", fine)):
             out.append({"elements": f, "step": step, "dt_s": s.meta["dt"], "velocity": s.velocity,
                         "sinkage": s.sinkage, "state": s})  # fmt: skip

@@ -171,3 +171,16 @@ def test_finer_elements_keeps_the_body_and_its_outline(name):
     for bad in (0, 1.5, True):
         with pytest.raises(InputError):
             s.finer_elements(bad)
+
+
+def test_finer_steps_runs_a_given_step_divided():
+    """About dt / factor at that omega (at most that: the step rule puts k + 0.618 steps in a pitch),
+    averaged over the revolutions asked."""
+    s = get_scenario("wheel")
+    omega = 30.0 * 2.0 * np.pi / 60.0
+    dt = s.run.dt(omega, s.lug_count)
+    f = s.finer_steps(dt, omega, 16, revolutions=8)
+    assert dt / 16 * (1 - 1e-2) < f.run.dt(omega, s.lug_count) <= dt / 16 * (1 + 1e-12)
+    assert f.run.average_revolutions == 8 and f.model_dump(exclude={"run"}) == s.model_dump(exclude={"run"})
+    with pytest.raises(InputError):
+        s.finer_steps(dt, omega, 0)

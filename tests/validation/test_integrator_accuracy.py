@@ -14,15 +14,7 @@ from intrusim.scenarios import get_scenario
 
 def refined(scenario, st, factor=16):
     """``scenario`` with ``factor`` x finer steps than the steady state ``st`` took, over 8 revolutions."""
-    dt = st.meta["dt"]
-    steps = round(factor * scenario.run.period(st.omega) / dt)
-    return scenario.model_copy(
-        update={
-            "run": scenario.run.model_copy(
-                update={"steps_per_revolution": steps, "dt_max": dt / factor, "average_revolutions": 8}
-            )
-        }
-    )
+    return scenario.finer_steps(st.meta["dt"], st.omega, factor)
 
 
 @pytest.mark.parametrize("name, rpm", [("wheel", 90.0), ("wheel", 30.0), ("runner", 30.0), ("runner", 90.0)])

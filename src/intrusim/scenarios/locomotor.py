@@ -118,6 +118,18 @@ class LocomotorScenario(ModelKindsMixin):
             lug_elements_per_face=self.lug_elements_per_face * f,
         )
 
+    def finer_steps(self, dt: float, omega: float, factor: int = 16, revolutions: int = 8) -> "LocomotorScenario":
+        """This body run at steps of about ``dt`` / ``factor`` (``dt`` the step a run at ``omega`` rad/s
+        took; at most that, the step rule then putting k + 0.618 steps in a lug pitch), its steady
+        state averaged over ``revolutions``: the dt -> 0 reference against which a default step is
+        measured (benchmarks/bench_integrator.py)."""
+        f = positive_int("factor", factor)
+        run = self.run.model_copy(
+            update=dict(steps_per_revolution=round(f * self.run.period(omega) / dt), dt_max=dt / f,
+                        average_revolutions=positive_int("revolutions", revolutions))
+        )  # fmt: skip
+        return self.model_copy(update=dict(run=run))
+
     @property
     def radius(self) -> float:
         """Nominal (outer) radius r = hub radius + true lug height, m: the r of slip and dh."""
