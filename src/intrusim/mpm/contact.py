@@ -21,7 +21,7 @@ from . import backend
 from ._taichi_private import free_ndarrays
 from .coulomb import coulomb_project
 from .exact_sums import ATOMIC, FIXED, scatter_add
-from .particles import LANES, get_scalar, get_vec2, set_vec2
+from .particles import LANES, get_scalar, get_vec2, set_mat2, set_vec2
 from .step_graph import Launch, Var
 
 if TYPE_CHECKING:
@@ -150,6 +150,7 @@ def _make_point_contact_kernel(fixed: bool):
     def rigid_polygon_point_contact(
         x: ti.types.ndarray(),
         v: ti.types.ndarray(),
+        C: ti.types.ndarray(),
         mass: ti.types.ndarray(),
         n_points: int,
         verts: ti.types.ndarray(),
@@ -172,7 +173,11 @@ def _make_point_contact_kernel(fixed: bool):
         nearest boundary point) gets v_p = v_b + coulomb_project(v_p - v_b, n, mu), v_b the body's
         rigid velocity at the point; its position this step follows the new velocity,
         x_p += dt (v_new - v_old), and a point found inside the polygon is put back on its surface
-        (along n; no momentum). impulse[0] += the momentum taken from the points (on the body),
+        (along n; no momentum). Its affine velocity C_p (P2G's m_p C_p (x_i - x_p)) becomes the
+        body's rigid velocity gradient [[0, -omega], [omega, 0]]: the grid's gradient G2P gave it
+        spans the body's surface, and kept beside the new v_p it would put into the nodes inside
+        the body each step a momentum their projection takes out again, a force on the body that
+        grows as 1 / dt (docs/mpm.md, "The contact points' affine velocity"). impulse[0] += the momentum taken from the points (on the body),
         impulse[1] += the same from points ahead of the reference point (x > x_body), as the grid
         contact. ``pose`` as there, at the step's start (the body moved by ``lead`` x its velocity
         since: dt when the host posed it, 0 when its dynamics already advanced it on the device).
@@ -201,9 +206,11 @@ def _make_point_contact_kernel(fixed: bool):
                 last = p
                 if p == n_points - 1:  # the pads after the last point stay its copies
                     last = x.shape[0] * LANES - 1
+                rigid_gradient = ti.Matrix([[0.0, -omega], [omega, 0.0]])
                 for q in range(p, last + 1):
                     set_vec2(v, q, v_new)
                     set_vec2(x, q, x_new)
+                    set_mat2(C, q, rigid_gradient)
                 dp = ti.cast(get_scalar(mass, p), ti.f64) * ti.cast(v_new - v_old, ti.f64)  # on the point
                 moment = ti.cast(r[0], ti.f64) * (-dp[1]) - ti.cast(r[1], ti.f64) * (-dp[0])
                 j_point = ti.Vector([-dp[0], -dp[1], moment])
@@ -553,6 +560,7 @@ class PolygonContact:
                 (
                     p.x,
                     p.v,
+                    p.C,
                     p.mass,
                     p.n,
                     self._verts,
