@@ -34,8 +34,8 @@ def test_rough_footing_load_does_not_move_with_dt_and_differs_little_between_10_
             case = FootingCase(cells_across=cells, travel_fraction=0.045, dt=solver.dt * dt_factor)
         ng[cells, dt_factor] = n_gamma_at(case, Solver(case.config(**BACKEND)).run(), window=(0.02, 0.04))
     assert all(v > 10.0 for v in ng.values())  # a real bearing capacity (N_gamma of tens for phi 34 deg)
-    assert abs(ng[10, 0.5] - ng[10, 1.0]) / ng[10, 1.0] < 0.03, ng  # measured: 0.2 %
-    # measured with the default contact ("nodes"): 21.4 at 10 cells, 19.3 at 20 (11 %; 19.6 at 40 cells,
+    assert abs(ng[10, 0.5] - ng[10, 1.0]) / ng[10, 1.0] < 0.03, ng  # measured: 1.1 %
+    # measured with the default contact ("nodes"): 22.2 at 10 cells, 19.9 at 20 (11 %; 19.6 at 40 cells,
     # docs/convergence.md). The contact "surface" gave 38.5 and 29.7 (30 %): its body acted wider than it is
     assert abs(ng[10, 1.0] - ng[20, 1.0]) / ng[20, 1.0] < 0.15, ng
 
