@@ -177,11 +177,12 @@ def _make_point_contact_kernel(fixed: bool):
         body's rigid velocity gradient [[0, -omega], [omega, 0]]: the grid's gradient G2P gave it
         spans the body's surface, and kept beside the new v_p it would put into the nodes inside
         the body each step a momentum their projection takes out again, a force on the body that
-        grows as 1 / dt (docs/mpm.md, "The contact points' affine velocity"). impulse[0] += the momentum taken from the points (on the body),
-        impulse[1] += the same from points ahead of the reference point (x > x_body), as the grid
-        contact. ``pose`` as there, at the step's start (the body moved by ``lead`` x its velocity
-        since: dt when the host posed it, 0 when its dynamics already advanced it on the device).
-        The last point's changes go to the pads of its block too (they stay copies of it).
+        grows as 1 / dt (docs/mpm.md, "The contact points' affine velocity"). impulse[0] += the
+        momentum taken from the points (on the body), impulse[1] += the same from points ahead of
+        the reference point (x > x_body), as the grid contact. ``pose`` as there, at the step's
+        start (the body moved by ``lead`` x its velocity since: dt when the host posed it, 0 when
+        its dynamics already advanced it on the device). The last point's changes go to the pads
+        of its block too (they stay copies of it).
         """
         bvx, bvz, omega = ti.cast(pose[3], float), ti.cast(pose[4], float), ti.cast(pose[5], float)
         bx = ti.cast(pose[0], float) + lead * bvx
