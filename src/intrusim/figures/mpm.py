@@ -217,7 +217,7 @@ def fig5c(
         "--",
         lw=0.8,
         color="0.6",
-        label=rf"fit $\delta h = {dh0 * 1e3:.1f}$ mm $+ {b:.2f}\,r x$",
+        label=rf"fit $\delta h = {dh0 * 1e3:.1f}$ mm ${'-' if b < 0 else '+'} {abs(b):.2f}\,r x$",
     )
     ax.set(xlabel=r"$\omega$ (RPM)", ylabel=r"$\delta h$ (mm)", title="Fig 5C: rear free-surface drop")
     ax.legend(fontsize=7)
