@@ -23,6 +23,29 @@ def _case(*sets, settings=None, scenario="wheel"):
     return case(scenario, True, None, settings, list(sets))
 
 
+# ---------------------------------------------------------------- a body's similar set-up (mpm_scale)
+
+
+def test_small_wheel_runs_a_geometrically_similar_setup():
+    """Fig S1's half-size wheel: lengths x 0.5 (so the cell size), times x sqrt(0.5), cells kept;
+    a --set still applies over the scaled base."""
+    from intrusim.scenarios.mpm_locomotion import paper_settings, similar_settings
+
+    big, small = _case().mpm, _case(scenario="small-wheel").mpm
+    assert small.cells == big.cells and small.h == pytest.approx(0.5 * big.h)
+    for key in ("bed_depth", "start_x", "wall_margin"):
+        assert getattr(small, key) == pytest.approx(0.5 * getattr(big, key)), key
+    for key in ("t_max", "settle_time", "ramp_time", "chunk"):
+        assert getattr(small, key) == pytest.approx(math.sqrt(0.5) * getattr(big, key)), key
+    assert small.youngs_modulus == big.youngs_modulus and small.mu_s == big.mu_s
+    assert paper_settings("wheel", 0.5).h == pytest.approx(0.0025)
+    assert _case("t_max=1.0", scenario="small-wheel").mpm.t_max == 1.0
+    tread = similar_settings(big.validated_copy(treadmill=(0.5, 0.3)), 0.5)
+    assert tread.treadmill == pytest.approx((0.25, 0.15))
+    with pytest.raises(ValueError, match="scale"):
+        similar_settings(big, 0.0)
+
+
 # ---------------------------------------------------------------- --settings and --set
 
 

@@ -74,7 +74,8 @@ def runs_root(runs: Path | None, quick: bool) -> Path:
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    base = quick_settings(scenario.body) if quick else paper_settings(scenario.body)
+    sc = scenario.mpm_scale
+    base = quick_settings(scenario.body, sc) if quick else paper_settings(scenario.body, sc)
     settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
 

@@ -52,7 +52,8 @@ class ReferenceSweep:
             return []
         from intrusim.scenarios.mpm_locomotion import quick_settings
 
-        base = quick_settings(self.scenario().body)
+        scn = self.scenario()
+        base = quick_settings(scn.body, scn.mpm_scale)
         h = base.domain[1] / base.cells[1]
         n = base.cells[1] + math.ceil(self.quick_extra_height / h - 1e-9)
         return [("domain", (base.domain[0], n * h)), ("cells", (base.cells[0], n))]

@@ -63,6 +63,10 @@ class LocomotorScenario(ModelKindsMixin):
     gravity : m/s^2.
     external_fx : N, constant forward force.
     length_scale : m, l of the non-dimensional axes (outer diameter; Table S1).
+    mpm_scale : the MPM set-up's size relative to the paper's for its body (box, cells, bed and
+        start times this, times of the run times its square root: a geometrically similar
+        simulation, :func:`~intrusim.scenarios.mpm_locomotion.similar_settings`); 0.5 for Fig
+        S1's half-size wheel, so its grousers span as many cells as the Table S1 wheel's.
     """
 
     name: str
@@ -80,6 +84,7 @@ class LocomotorScenario(ModelKindsMixin):
     gravity: float = Field(gt=0.0)
     external_fx: float = 0.0
     length_scale: float = Field(gt=0.0)
+    mpm_scale: float = Field(1.0, gt=0.0, le=10.0)
     run: RunConfig = Field(default_factory=RunConfig)
 
     @model_validator(mode="after")
@@ -216,7 +221,7 @@ def small_wheel_scenario() -> LocomotorScenario:
             name="small_grousered_wheel",
             hub_diameter=big.hub_diameter * s, lug_height=big.lug_height * s, lug_width=big.lug_width * s,
             width=big.width * s, mass_x=big.mass_x * s**3, mass_z=big.mass_z * s**3,
-            length_scale=big.length_scale * s,
+            length_scale=big.length_scale * s, mpm_scale=s,
         )
     )  # fmt: skip
 

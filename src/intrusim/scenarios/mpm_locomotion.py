@@ -156,8 +156,34 @@ class MPMSettings(Config):
         return self
 
 
-def paper_settings(body: str) -> MPMSettings:
-    """The paper's set-up (Table S1) for a "wheel" or "runner" body."""
+def similar_settings(settings: MPMSettings, scale: float) -> MPMSettings:
+    """``settings`` for a geometrically similar body ``scale`` times the size: every length (the
+    box, so the cell size, the bed, the start, the wall margin, the treadmill) times ``scale``,
+    every time (ramp, settle, run length, chunk, frames) times ``sqrt(scale)`` (Froude similarity:
+    the same v / sqrt(g l) and omega sqrt(l / g) at the same point of a run); the grid's cell count,
+    the material and the numerical stiffness E kept."""
+    if not (math.isfinite(scale) and scale > 0.0):
+        raise InputError(f"scale must be a finite number > 0, got {scale!r}")
+    if scale == 1.0:
+        return settings
+    ts = math.sqrt(scale)
+    s = settings
+    return s.validated_copy(
+        domain=(s.domain[0] * scale, s.domain[1] * scale), bed_depth=s.bed_depth * scale, start_x=s.start_x * scale,
+        start_depth=s.start_depth * scale, wall_margin=s.wall_margin * scale,
+        treadmill=None if s.treadmill is None else (s.treadmill[0] * scale, s.treadmill[1] * scale),
+        ramp_time=s.ramp_time * ts, settle_time=s.settle_time * ts, t_max=s.t_max * ts, chunk=s.chunk * ts,
+        frames_every=None if s.frames_every is None else s.frames_every * ts,
+    )  # fmt: skip
+
+
+def paper_settings(body: str, scale: float = 1.0) -> MPMSettings:
+    """The paper's set-up (Table S1) for a "wheel" or "runner" body; ``scale`` != 1: the same set-up
+    for a body ``scale`` times the size (:func:`similar_settings`; the scenario's ``mpm_scale``)."""
+    return similar_settings(_paper_settings(body), scale)
+
+
+def _paper_settings(body: str) -> MPMSettings:
     t = table_s1()
     ps = t["poppy_seeds"]
     res = t["mpm_resolution"]
@@ -177,13 +203,15 @@ def paper_settings(body: str) -> MPMSettings:
     raise InputError(f"body must be 'wheel' or 'runner', got {body!r}")
 
 
-def quick_settings(body: str) -> MPMSettings:
-    """A coarse, short version of :func:`paper_settings` (2 cm cells, 1.2 s): trends in seconds."""
+def quick_settings(body: str, scale: float = 1.0) -> MPMSettings:
+    """A coarse, short version of :func:`paper_settings` (2 cm cells, 1.2 s): trends in seconds;
+    ``scale``: as for :func:`paper_settings`."""
     long = body == "runner"
-    return paper_settings(body).validated_copy(
+    base = _paper_settings(body).validated_copy(
         domain=(2.0 if long else 1.0, 0.5), cells=(100 if long else 50, 25), bed_depth=0.25, t_max=1.2,
         ramp_time=0.1, settle_time=0.5, start_x=0.16,
     )  # fmt: skip
+    return similar_settings(base, scale)
 
 
 @dataclass(frozen=True)

@@ -197,12 +197,16 @@ def settings_items(settings_file: str | Path | None = None, sets: Iterable[str] 
     return items + [parse_assignment(s) for s in sets]
 
 
-def case_settings(body: str, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = ()) -> Any:
-    """The MPMSettings of a command: the quick or paper base of ``body``, then the settings file,
-    then each ``key=value`` of ``sets`` in order."""
+def case_settings(
+    body: str, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = (), scale: float = 1.0
+) -> Any:
+    """The MPMSettings of a command: the quick or paper base of ``body`` (for a body ``scale`` times
+    the size: the scenario's ``mpm_scale``), then the settings file, then each ``key=value`` of
+    ``sets`` in order."""
     from intrusim.scenarios.mpm_locomotion import paper_settings, quick_settings
 
-    return apply_settings(quick_settings(body) if quick else paper_settings(body), settings_items(settings_file, sets))
+    base = quick_settings(body, scale) if quick else paper_settings(body, scale)
+    return apply_settings(base, settings_items(settings_file, sets))
 
 
 # ---------------------------------------------------------------- the record of a sweep's settings
