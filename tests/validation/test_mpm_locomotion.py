@@ -268,3 +268,22 @@ def test_a_treadmill_outside_the_box_is_refused_before_compute(tmp_path):
         with pytest.raises(InputError, match=match):
             run_mpm_steady(grousered_wheel_scenario(), s.validated_copy(treadmill=bad), 30.0, tmp_path / "run")
         assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.slow
+def test_half_size_wheel_in_its_similar_setup_falls_on_the_large_wheels_curve():
+    """Fig S1 in the MPM: the half-size wheel (every length x 1/2) in the set-up made similar
+    (``mpm_scale`` 0.5: cells and box x 1/2, times x 1/sqrt 2) at the same omega / omega_0 gives
+    the large wheel's v / sqrt(g l) and sinkage / l (coarse: 2 and 1 cm cells, under 1.2 s)."""
+    from intrusim.scenarios.locomotor import small_wheel_scenario
+
+    big, small = grousered_wheel_scenario(), small_wheel_scenario()
+    rpm = 45.0
+    out = {}
+    for sc, w in ((big, rpm), (small, rpm * math.sqrt(2.0))):  # omega sqrt(l / g) kept
+        st = run_mpm_steady(sc, quick_settings(sc.body, sc.mpm_scale), w)
+        out[sc.name] = (st.velocity / math.sqrt(sc.gravity * sc.length_scale), st.sinkage / sc.length_scale)
+    (vb, sb), (vs, ss) = out[big.name], out[small.name]
+    assert vs == pytest.approx(vb, rel=0.05) and ss == pytest.approx(sb, rel=0.05), (
+        out
+    )  # +0.7 %, -2.6 % (x 1 cells: -6 %, +25 %)
