@@ -4,7 +4,8 @@ Run:  python benchmarks/bench_integrator.py [--repeat N] [--write docs/locomotio
 
 For each body (the Table S1 wheel, the half-size wheel of Fig S1, the four-flap runner, the
 Table S1 wheel with the calibrated bulldozing term of docs/results.md, and the Table S1 wheel with
-the blind-prediction calibration of docs/results.md, ``docs/figures/blind.model.json``) and omega,
+a rough calibration: xi 0.545, lambda 0.09, psi 0.311 + 0.604 x in the effective rear-half zone,
+``benchmarks/data/rough_zone_wheel.model.json``, an earlier blind-prediction fit) and omega,
 the DRFT steady state (v, sinkage) is computed
 
 * with the defaults: BDF2, the step of ``RunConfig.dt`` (k + 0.618 steps per lug pitch, at least
@@ -39,9 +40,9 @@ BODIES = {
     "small wheel (Fig S1)": (small_wheel_scenario, (10.0, 30.0, 50.0, 70.0, 90.0)),
     "four-flap runner": (four_flap_runner_scenario, (10.0, 30.0, 90.0, 150.0, 300.0)),
     "wheel + bulldozing, k_b 4.38": (lambda: bulldozing_wheel(4.38), (10.0, 30.0, 60.0)),
-    "wheel, blind calibration": (lambda: blind_wheel(), (10.0, 30.0, 60.0, 90.0)),
+    "wheel, rough calibration": (lambda: blind_wheel(), (10.0, 30.0, 60.0, 90.0)),
 }
-BLIND_MODEL = ROOT / "docs" / "figures" / "blind.model.json"
+BLIND_MODEL = ROOT / "benchmarks" / "data" / "rough_zone_wheel.model.json"
 
 
 def bulldozing_wheel(k_b: float):
@@ -51,8 +52,8 @@ def bulldozing_wheel(k_b: float):
 
 
 def blind_wheel():
-    """The Table S1 wheel driven by the blind-prediction calibration (xi, psi, lambda and the
-    effective rear-half zone fitted to the MPM sweep; docs/results.md)."""
+    """The Table S1 wheel driven by a rough calibration (xi, psi, lambda and the
+    effective rear-half zone fitted to an earlier MPM sweep)."""
     return read_model(BLIND_MODEL).apply(grousered_wheel_scenario())
 
 

@@ -142,7 +142,8 @@ def test_window_drift_is_the_larger_change_between_the_halves():
 
 
 def _zone_wheel():
-    """The 30-grouser wheel with the blind calibration's force model (the effective rear-half zone):
+    """The 30-grouser wheel with a rough calibration's force model (the effective rear-half zone,
+    benchmarks/data/rough_zone_wheel.model.json):
     at 5 RPM its default step leaves Newton without a root within 8 sub-steps."""
     from intrusim.analysis.calibration import with_mpm_push
     from intrusim.scenarios import load_scenario
