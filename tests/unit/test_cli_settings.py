@@ -352,7 +352,11 @@ def test_mpm_collect_removes_the_record_of_an_earlier_sweep_when_its_runs_record
     assert csv_path.exists() and not record_path(csv_path).exists() and read_record(csv_path) is None
 
 
-@pytest.mark.parametrize("figure,item", [("fig5ab", "flip=2"), ("fig7bc", "length=0.1"), ("fig4b", "t_max=nan")])
+# figs1: a treadmill inside the Table S1 wheel's 1 m box but beyond the half-size wheel's 0.5 m one
+@pytest.mark.parametrize(
+    "figure,item",
+    [("fig5ab", "flip=2"), ("fig7bc", "length=0.1"), ("fig4b", "t_max=nan"), ("figs1", "treadmill=[0.6, 0.3]")],
+)
 def test_reproduce_refuses_a_bad_setting_value_before_any_curve_is_computed(tmp_path, monkeypatch, figure, item):
     import intrusim.figures.rft as rft
 

@@ -26,7 +26,7 @@ from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
-from intrusim.scenarios.mpm_locomotion import MPMLocomotion, paper_settings, quick_settings  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, base_settings  # noqa: E402
 from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
@@ -42,19 +42,22 @@ MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 # (`intrusim reproduce --settings/--set`; :func:`applying_settings`)
 _SETTINGS: list[tuple[str, Any]] = []
 
-# the bodies of each figure's MPM cases (their base settings: quick_settings / paper_settings);
-# a figure not named here draws none (its --set values are checked on the wheel's)
-FIGURE_BODIES: dict[str, tuple[str, ...]] = {
+# the scenarios of each figure's MPM cases (their base settings: base_settings of the body at the
+# scenario's mpm_scale); a figure not named here draws none (its --set values are checked on the wheel's)
+FIGURE_SCENARIOS: dict[str, tuple[str, ...]] = {
     "fig3ab": ("wheel",), "fig3cd": ("wheel",), "fig5c": ("wheel",), "fig5d": ("wheel",),
-    "fig5ab": ("wheel",), "figs1": ("wheel",), "fig7bc": ("runner",),
+    "fig5ab": ("wheel",), "figs1": ("wheel", "small-wheel"), "fig7bc": ("runner",),
 }  # fmt: skip
 
 
 def check_figure_settings(figure: str, quick: bool, items: list[tuple[str, Any]]) -> None:
     """Refuse (InputError, naming the key and value) settings ``items`` that are not valid over the
     quick or paper settings of figure ``figure``'s MPM cases, before any of the figure is computed."""
-    for body in FIGURE_BODIES.get(figure, ("wheel",)):
-        apply_settings(quick_settings(body) if quick else paper_settings(body), items)
+    from intrusim.scenarios import get_scenario
+
+    for name in FIGURE_SCENARIOS.get(figure, ("wheel",)):
+        s = get_scenario(name)
+        apply_settings(base_settings(s.body, quick, s.mpm_scale), items)  # type: ignore[union-attr]
 
 
 @contextmanager
@@ -74,8 +77,7 @@ def runs_root(runs: Path | None, quick: bool) -> Path:
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    sc = scenario.mpm_scale
-    base = quick_settings(scenario.body, sc) if quick else paper_settings(scenario.body, sc)
+    base = base_settings(scenario.body, quick, scenario.mpm_scale)
     settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
 

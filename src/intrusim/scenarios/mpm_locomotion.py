@@ -214,6 +214,12 @@ def quick_settings(body: str, scale: float = 1.0) -> MPMSettings:
     return similar_settings(base, scale)
 
 
+def base_settings(body: str, quick: bool, scale: float = 1.0) -> MPMSettings:
+    """:func:`quick_settings` or :func:`paper_settings` of ``body`` for a body ``scale`` times the size
+    (a scenario's ``mpm_scale``): the base every command's and figure's settings go over."""
+    return quick_settings(body, scale) if quick else paper_settings(body, scale)
+
+
 @dataclass(frozen=True)
 class MPMSteadyState:
     """Window averages of one MPM locomotion run (SI) and its time series."""

@@ -203,10 +203,9 @@ def case_settings(
     """The MPMSettings of a command: the quick or paper base of ``body`` (for a body ``scale`` times
     the size: the scenario's ``mpm_scale``), then the settings file, then each ``key=value`` of
     ``sets`` in order."""
-    from intrusim.scenarios.mpm_locomotion import paper_settings, quick_settings
+    from intrusim.scenarios.mpm_locomotion import base_settings
 
-    base = quick_settings(body, scale) if quick else paper_settings(body, scale)
-    return apply_settings(base, settings_items(settings_file, sets))
+    return apply_settings(base_settings(body, quick, scale), settings_items(settings_file, sets))
 
 
 # ---------------------------------------------------------------- the record of a sweep's settings
