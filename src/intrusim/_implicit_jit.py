@@ -31,7 +31,7 @@ from intrusim.forces import CHUNK, _pseudo_angle, _wrench_kernel
 from intrusim.kinematics import bdf2_base as bdf2_base_py
 from intrusim.kinematics import unbalanced_impulse as unbalanced_impulse_py
 from intrusim.laws.bulldozing import bulldozing_wrench
-from intrusim.laws.drft import MID_ANGLE_TIE
+from intrusim.laws.drft import MID_ANGLE_TIE, circle_arc_mid
 
 # status codes
 OK = 0
@@ -72,7 +72,7 @@ def _force(
     """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
     mode, dh, fwd = surface_params(fs_kind, fs_r, fs_g, fs_slope, fs_offset, vx, om)
     return _wrench_kernel(
-        mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd
+        mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd, fs_r
     )
 
 
@@ -141,9 +141,14 @@ def _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0,
 
 
 @numba.njit(cache=True)
-def _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd):
+def _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius):
     """Pseudo-angle of the mid-angle of the contact arc (its two ends' mean angle), -inf without a split."""
     if mode == 0:
+        return -np.inf
+    if mode == 3:  # the arc's ends on the circle of arc_radius
+        phi_mid = circle_arc_mid(z - surface_z, arc_radius, dh) - MID_ANGLE_TIE
+        if phi_mid > -np.pi:
+            return _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
         return -np.inf
     rx, rz, p_el = geo[0], geo[1], geo[6]
     plo, phi_ = np.inf, -np.inf
@@ -205,10 +210,10 @@ def _ordered_sums(out, n_g):
 
 
 @numba.njit(cache=True)
-def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, mode, dh, fwd, thr):
+def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, mode, dh, fwd, thr, arc_radius):
     """forces._wrench_kernel on a step's rotated elements: sum of (alpha H(-z~)|z~| - n lam rho v_n^2) dA, and moment."""
     geo, n_g, lead, n_l, _, _, vx0, vz0, v_slack = frame
-    p_mid = _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd)
+    p_mid = _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius)
     src, n = geo, n_g
     if abs(vx - vx0) <= v_slack and abs(vz - vz0) <= v_slack:  # only the elements that can lead
         src, n = lead, n_l
@@ -236,7 +241,7 @@ def _step_force(spec, frame, work, k, z, th, vx, vz, om):
     mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     if z >= frame[4] and fwd == frame[5]:
         fx, fz, m = _force_rotated(
-            frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh)
+            frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh), fr
         )
     else:
         fx, fz, m = _force(
@@ -255,7 +260,7 @@ def _largest_element_force(spec, frame, work, k, z, vx, vz, om):
     geo, n_g = frame[0], frame[1]
     mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     thr = _contact_threshold(sz, mode, dh)
-    p_mid = _contact_arc_mid(geo, n_g, z, sz, mode, dh, fwd)
+    p_mid = _contact_arc_mid(geo, n_g, z, sz, mode, dh, fwd, fr)
     _element_forces(geo, n_g, work, z, vx, vz, om, sz, k, asc, lr, dh if mode >= 1 else 0.0, thr, p_mid)
     big = 0.0
     for q in range(n_g):

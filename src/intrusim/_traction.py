@@ -91,7 +91,7 @@ def surface_params(fs_kind: int, radius: float, gravity: float, slope: float, of
     """(mode, dh, forward sign) of the force kernel, as ``WheelRearHalf.kernel_params``.
 
     fs_kind 0: flat free surface (mode 0, dh 0); 1 / 2: the wheel's rear half with the "submerged" /
-    "effective" split, dh from :func:`rear_surface_drop`; forward = ``laws.drft.travel_sign``.
+    "effective" split (3: "circle"), dh from :func:`rear_surface_drop`; forward = ``laws.drft.travel_sign``.
     """
     mode, dh, fwd = 0, 0.0, 1.0
     if fs_kind >= 1:

@@ -328,7 +328,7 @@ def calibrate(
     ),
     structural: Optional[str] = typer.Option(
         None,
-        help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective or none; also for the --check scenarios that have one (a runner keeps none).",
+        help="Structural correction (default: the scenario's): wheel-rear-half, wheel-rear-half-effective, wheel-rear-half-circle or none; also for the --check scenarios that have one (a runner keeps none).",
     ),
     mpm_push: bool = typer.Option(
         True, help="Give DRFT the constant forward push of the MPM runs (4 N for the Table S1 wheel)."

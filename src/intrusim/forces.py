@@ -28,10 +28,12 @@ from intrusim.kinematics import BodyState, Wrench, element_motion
 from intrusim.laws.bulldozing import bulldozing_scale, bulldozing_wrench
 from intrusim.laws.drft import (
     MID_ANGLE_TIE,
+    SPLIT_MODES,
     AffinePsi,
     FlatFreeSurface,
     FreeSurfaceModel,
     WheelRearHalf,
+    circle_arc_mid,
     identity_psi,
     inertial_traction,
 )  # fmt: skip
@@ -39,8 +41,8 @@ from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
 from intrusim.params import GRAVITY
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
-Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective"]
-STRUCTURAL_MODELS: tuple[str, ...] = ("none", "wheel-rear-half", "wheel-rear-half-effective")
+Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle"]
+STRUCTURAL_MODELS: tuple[str, ...] = ("none", "wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle")
 
 
 class ForceModel(Protocol):
@@ -107,12 +109,14 @@ def _wrench_kernel(
     fs_mode: int,
     dh: float,
     forward: float,
+    arc_radius: float,
 ) -> tuple[float, float, float]:
     """Sum of DRFT element forces t dA, t = alpha H(-z~)|z~| - n lam rho v_n^2 (Eq. 4), and moment.
 
     ``ccen``, ``crad``: bounding circles of runs of CHUNK consecutive elements (chunk_bounds).
     Angles of the contact arc (from straight down, + forward) are compared through a monotone
-    pseudo-angle; atan2 is taken only for the two ends of the arc.
+    pseudo-angle; atan2 is taken only for the two ends of the arc. ``fs_mode`` 3 (the "circle" split)
+    takes the arc's ends on the circle of ``arc_radius`` (laws.drft.circle_arc_mid) instead.
     """
     c, s = np.cos(theta), np.sin(theta)
     n_el = mid.shape[0]
@@ -146,7 +150,7 @@ def _wrench_kernel(
                 rel[n_c, 2] = p
                 # mode 1: below the undisturbed surface; mode 2: behind the lowest point, below z = -dh
                 level = surface_z - dh if (fs_mode == 2 and p < 0.0) else surface_z
-                if z + rz < level:
+                if fs_mode <= 2 and z + rz < level:
                     any_sub = True
                     if p < plo:
                         plo, lo_y, lo_x = p, py, px
@@ -154,7 +158,11 @@ def _wrench_kernel(
                         phi_, hi_y, hi_x = p, py, px
             n_c += 1
     p_mid = -np.inf  # pseudo-angle of the mid-angle of the contact arc (-inf: no split)
-    if any_sub:
+    if fs_mode == 3:
+        phi_mid = circle_arc_mid(z - surface_z, arc_radius, dh) - MID_ANGLE_TIE
+        if phi_mid > -np.pi:  # False for NaN: no contact
+            p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
+    elif any_sub:
         phi_mid = 0.5 * (np.arctan2(lo_y, lo_x) + np.arctan2(hi_y, hi_x)) - MID_ANGLE_TIE
         if phi_mid > -np.pi:
             p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
@@ -248,6 +256,7 @@ class ResistiveForceModel:
         fx, fz, mom = _wrench_kernel(
             self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
             self._coef, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
+            float(getattr(self.free_surface, "radius", 0.0)),
         )  # fmt: skip
         if self.bulldozing > 0.0:
             bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, z, vx)
@@ -259,7 +268,7 @@ class ResistiveForceModel:
 
         (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
         fs_gravity, fs_slope, fs_offset, bulldozing, radius): fs_kind 0 = flat free surface, 1 / 2 =
-        :class:`WheelRearHalf` with the "submerged" / "effective" split and psi(x) = offset + slope x
+        :class:`WheelRearHalf` with the "submerged" / "effective" split (3: "circle") and psi(x) = offset + slope x
         (the paper's identity, or an :class:`AffinePsi`), whose drop dh = r psi(r omega^2 / g) the
         loop evaluates itself (``_traction.rear_surface_drop``, the same arithmetic as
         ``laws.drft.structural_depth_shift``). None for a free-surface model without a compiled
@@ -269,7 +278,7 @@ class ResistiveForceModel:
         if type(fs) is FlatFreeSurface:
             kind, r, g, slope, offset = 0, 1.0, 1.0, 1.0, 0.0
         elif type(fs) is WheelRearHalf and (fs.psi is identity_psi or type(fs.psi) is AffinePsi):
-            kind, r, g = (1 if fs.split == "submerged" else 2), float(fs.radius), float(fs.gravity)
+            kind, r, g = SPLIT_MODES[fs.split], float(fs.radius), float(fs.gravity)
             slope, offset = (1.0, 0.0) if fs.psi is identity_psi else (float(fs.psi.slope), float(fs.psi.offset))  # type: ignore[attr-defined]
         else:
             return None
@@ -345,7 +354,8 @@ def make_force_model(
         ``"drft-inertial"``: RFT + lambda rho v_n^2 only (Fig 4B, Fig 5 dashed).
         ``"drft"``: RFT + inertial + structural correction (Eq. 4); ``structural`` selects
         the free-surface model (``"wheel-rear-half"`` for wheels, ``"none"`` for plates/runners;
-        ``"wheel-rear-half-effective"``: the contact arc ends at the lowered rear surface, see
+        ``"wheel-rear-half-effective"``: the contact arc ends at the lowered rear surface;
+        ``"wheel-rear-half-circle"``: the same, the arc's ends taken on the wheel's outer circle, see
         :class:`~intrusim.laws.drft.WheelRearHalf`).
     psi
         free-surface law of the wheel structural correction, dh = r psi(r omega^2 / g) (paper:
@@ -371,6 +381,8 @@ def make_force_model(
             fs = WheelRearHalf(shape.radius, psi=psi)
         elif structural == "wheel-rear-half-effective":
             fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
+        elif structural == "wheel-rear-half-circle":
+            fs = WheelRearHalf(shape.radius, psi=psi, split="circle")
         return ResistiveForceModel(
             els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull
         )

@@ -19,7 +19,7 @@ def random_states(n, seed=0):
                         rng.uniform(-1, 1), rng.uniform(-0.3, 0.3), rng.uniform(-12, 12))  # fmt: skip
 
 
-@pytest.mark.parametrize("structural", ["wheel-rear-half", "wheel-rear-half-effective"])
+@pytest.mark.parametrize("structural", ["wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle"])
 @pytest.mark.parametrize("kind", KINDS)
 def test_compiled_matches_numpy_laws(kind, structural):
     m = make_force_model(kind, WHEEL, structural=structural)
@@ -35,6 +35,26 @@ def test_effective_split_is_stronger_than_submerged_split():
     sub = make_force_model("drft", WHEEL, structural="wheel-rear-half").wrench(st)
     eff = make_force_model("drft", WHEEL, structural="wheel-rear-half-effective").wrench(st)
     assert eff.fz < 0.9 * sub.fz
+
+
+def test_circle_split_mid_angle_is_continuous_in_height():
+    """The circle split's zone boundary follows the wheel's height smoothly; the effective split's,
+    set by the submerged elements' extreme angles, jumps as a lug tip crosses the lowered surface."""
+    from intrusim.laws.drft import circle_arc_mid
+
+    r, dh = 0.106, 0.05
+
+    def largest_change(n):  # the largest change of the mid-angle between heights (0.105 - 0.02) / n apart
+        mid = np.array([circle_arc_mid(x, r, dh) for x in np.linspace(0.02, 0.105, n + 1)])
+        assert np.all(np.isfinite(mid))
+        return np.max(np.abs(np.diff(mid)))
+
+    # continuous: the change shrinks with the spacing (as its square root near tangency, where acos is steep)
+    assert largest_change(16000) < 0.3 * largest_change(1000) and largest_change(16000) < 0.004
+    assert np.isnan(circle_arc_mid(r, r, dh)) and circle_arc_mid(r - 1e-9, r, dh) > 0.0  # just touching: in front
+    # hand values: centre at r/2 with dh = r/2: front end acos(1/2) = 60 deg, rear end straight down
+    assert circle_arc_mid(0.5 * r, r, 0.5 * r) == pytest.approx(np.pi / 6)
+    assert circle_arc_mid(0.5 * r, r, 0.0) == pytest.approx(0.0, abs=1e-15)  # no drop: the arc is symmetric
 
 
 def test_models_differ_as_they_should():

@@ -15,6 +15,7 @@ from intrusim.scenarios import get_scenario
 CASES = [
     ("wheel", "drft", 30.0, None, "wheel-rear-half"),
     ("wheel", "drft", 90.0, None, "wheel-rear-half-effective"),
+    ("wheel", "drft", 60.0, None, "wheel-rear-half-circle"),
     ("runner", "drft", 200.0, 4.0, None),
     ("wheel", "rft", 60.0, None, None),
 ]

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Protocol
 
+import numba
 import numpy as np
 
 from intrusim._checks import InputError, finite, non_negative, positive
@@ -118,6 +119,21 @@ def rear_half_mask(position: np.ndarray, centre: np.ndarray, submerged: np.ndarr
     return phi < mid - MID_ANGLE_TIE  # evenly spaced elements can sit exactly on the mid-angle
 
 
+@numba.njit(cache=True)
+def circle_arc_mid(height: float, radius: float, dh: float) -> float:
+    """Mid-angle (rad, from straight down, + forward) of the contact arc of a circle of ``radius`` whose
+    centre is ``height`` above the undisturbed surface: from where it meets the lowered rear surface
+    z = -dh behind (straight down if it does not reach it) to where it meets z = 0 in front; NaN when
+    the circle does not reach the surface. Continuous in the height, unlike the ends of the submerged
+    elements, which jump as a lug tip enters or leaves a level."""
+    if not height < radius:
+        return np.nan
+    front = np.arccos(max(height / radius, -1.0))
+    u = (height + dh) / radius
+    rear = -np.arccos(max(u, -1.0)) if u < 1.0 else 0.0
+    return 0.5 * (front + rear)
+
+
 class FreeSurfaceModel(Protocol):
     """Effective free-surface drop dh for each element (the structural correction)."""
 
@@ -140,7 +156,8 @@ class FlatFreeSurface:
         return 0, 0.0, 1.0
 
 
-SPLITS = ("submerged", "effective")
+SPLITS = ("submerged", "effective", "circle")
+SPLIT_MODES = {"submerged": 1, "effective": 2, "circle": 3}  # the compiled kernel's mode of each split
 
 
 @dataclass(frozen=True)
@@ -148,21 +165,25 @@ class WheelRearHalf:
     """The paper's wheel model: dh = r psi(r omega^2 / g) on the rear half of the contact arc.
 
     The paper splits "the contact area between sand and wheel" in two equal halves by the angle
-    it subtends at the wheel centre, without saying where the contact ends at the rear. Two
+    it subtends at the wheel centre, without saying where the contact ends at the rear. Three
     readings, selected by ``split``:
 
     * ``"submerged"`` (default, the literal reading): the arc spans every element below the
       undisturbed surface z = 0, front and rear;
     * ``"effective"``: the arc ends at the rear where the wheel meets the LOWERED rear surface
       z = -dh (elements behind the lowest point count only if below -dh), so the split moves
-      forward as dh grows. This reading makes the correction much stronger (docs/rft.md).
+      forward as dh grows. This reading makes the correction much stronger (docs/rft.md);
+    * ``"circle"``: the effective reading with the arc's ends taken on the wheel's outer circle of
+      ``radius`` (:func:`circle_arc_mid`) rather than at the extreme submerged elements: its
+      mid-angle moves continuously with the wheel's height, where the elements' ends jump each
+      time a lug tip crosses a level (the default step's error, docs/locomotion.md).
 
     Attributes
     ----------
     radius : r, m (nominal wheel radius).
     gravity : g, m/s^2.
     psi : dimensionless law, identity by default.
-    split : "submerged" or "effective".
+    split : "submerged", "effective" or "circle".
     """
 
     radius: float
@@ -183,6 +204,11 @@ class WheelRearHalf:
         fwd = travel_sign(omega, vx)
         dh = self.drop(omega)
         depth = np.asarray(position)[:, 1] - surface_z
+        if self.split == "circle":
+            mid = circle_arc_mid(float(centre[1]) - surface_z, self.radius, dh)
+            if not np.isfinite(mid):
+                return np.zeros(len(depth))
+            return np.where(contact_angle(position, centre, fwd) < mid - MID_ANGLE_TIE, dh, 0.0)
         if self.split == "effective":
             behind = contact_angle(position, centre, fwd) < 0.0
             contact = np.where(behind, depth + dh < 0.0, depth < 0.0)
@@ -192,5 +218,5 @@ class WheelRearHalf:
         return np.where(rear, dh, 0.0)
 
     def kernel_params(self, omega: float, vx: float) -> tuple[int, float, float]:
-        """(mode, dh, forward sign) for the compiled force kernel: mode 1 = submerged split, 2 = effective."""
-        return (1 if self.split == "submerged" else 2), self.drop(omega), travel_sign(omega, vx)
+        """(mode, dh, forward sign) for the compiled force kernel: mode 1 = submerged split, 2 = effective, 3 = circle."""
+        return SPLIT_MODES[self.split], self.drop(omega), travel_sign(omega, vx)

@@ -80,7 +80,8 @@ class ForceModelConfig(Config):
     rho : media density of the inertial correction, kg/m^3 (rho_c = 638 for poppy seeds).
     lam : lambda of the inertial correction (wheel 1; runner 0, 2 or 4; plate drag 1.1).
     structural : dynamic structural correction: "wheel-rear-half" (wheels), "none", or
-        "wheel-rear-half-effective" (the contact arc ends at the lowered rear surface).
+        "wheel-rear-half-effective" (the contact arc ends at the lowered rear surface), or
+        "wheel-rear-half-circle" (the same, with the arc's ends on the wheel's outer circle).
     psi_slope, psi_offset : free-surface law of the structural correction,
         dh = r psi(r omega^2 / g) with psi(x) = psi_offset + psi_slope x (dimensionless; the
         paper: the identity, 1 and 0; fitted on MPM by :mod:`intrusim.analysis.calibration`).
@@ -98,7 +99,7 @@ class ForceModelConfig(Config):
     xi: float = Field(0.35, ge=0.0)
     rho: float = Field(638.0, ge=0.0)
     lam: float = Field(1.0, ge=0.0)
-    structural: Literal["none", "wheel-rear-half", "wheel-rear-half-effective"] = "none"
+    structural: Literal["none", "wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle"] = "none"
     psi_slope: float = Field(1.0, ge=0.0, allow_inf_nan=False)
     psi_offset: float = Field(0.0, allow_inf_nan=False)
     rft_coefficients: str | None = None
