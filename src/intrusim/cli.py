@@ -324,7 +324,11 @@ def calibrate(
     ),
     params: str = typer.Option(
         "xi,psi",
-        help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper).",
+        help="Parameters to fit, comma-separated: xi, psi (slope c), psi_offset, lam, bulldozing (k_b of a bulldozing resistance, not in the paper); 'none': fit nothing, compare the model as it is (its values measured, --fix).",
+    ),
+    fix: list[str] = typer.Option(
+        [],
+        help="NAME=VALUE, repeatable: a parameter (as --params) set to a measured value, not fitted, on the scenario and the --check scenarios.",
     ),
     structural: Optional[str] = typer.Option(
         None,
@@ -382,11 +386,16 @@ def calibrate(
 
         if workers > (os.cpu_count() or 1):
             raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
-        names = [p.strip() for p in params.split(",") if p.strip()]
+        names = [] if params.strip() == "none" else [p.strip() for p in params.split(",") if p.strip()]
+        if not names and params.strip() != "none":
+            raise InputError("--params names no parameter: give one or more, or 'none' to fit nothing")
+        if not names and leave_one_out:
+            raise InputError("--leave-one-out refits without each omega: nothing is fitted with --params none")
+        fixed = _fixed_values(fix, names)
         if psi_from_dh not in ("none", "linear", "affine"):
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
-        if psi_from_dh != "none" and {"psi", "psi_offset"} & set(names):
-            raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset as well")
+        if psi_from_dh != "none" and {"psi", "psi_offset"} & (set(names) | set(fixed)):
+            raise InputError("--psi-from-dh sets psi: do not fit or --fix psi or psi_offset as well")
 
         def prepared(name: str, check: bool = False):
             """A scenario with this command's choices: the RFT table, the push, and --structural
@@ -394,6 +403,7 @@ def calibrate(
             s = with_rft_table(load_scenario(name), rft_coefficients)
             if structural is not None and not (check and s.force_model.structural == "none"):
                 s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
+            s = with_parameters(s, fixed) if fixed else s
             return with_mpm_push(s) if mpm_push else s
 
         stem = name or f"calibration_{Path(scenario).stem.replace('-', '_')}"
@@ -451,7 +461,7 @@ def calibrate(
             _echo_comparison(loo.comparison)
     except (InputError, ValueError) as err:
         _fail(err)
-    meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "structural": start.force_model.structural,
+    meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "fixed": fixed, "structural": start.force_model.structural,
                         "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
                         "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients),
                         "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
@@ -468,6 +478,28 @@ def calibrate(
                    f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
         typer.echo(str(p))
+
+
+def _fixed_values(items: list[str], fitted: list[str]) -> dict[str, float]:
+    """``--fix NAME=VALUE`` items as {name: value}: each a known parameter, finite, given once and not fitted."""
+    from intrusim.analysis.calibration import PARAMETERS
+
+    out: dict[str, float] = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or key not in PARAMETERS:
+            raise InputError(f"--fix must be NAME=VALUE with NAME one of {', '.join(PARAMETERS)}, got {item!r}")
+        if key in out or key in fitted:
+            raise InputError(f"--fix {key}: {'given twice' if key in out else 'also in --params (fitted)'}")
+        try:
+            value = float(text)
+        except ValueError:
+            raise InputError(f"--fix {key}: {text.strip()!r} is not a number") from None
+        if not math.isfinite(value):
+            raise InputError(f"--fix {key}: must be finite, got {text.strip()!r}")
+        out[key] = value
+    return out
 
 
 def _mpm_references(

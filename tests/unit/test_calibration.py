@@ -296,6 +296,60 @@ def test_cli_calibrate_leave_one_out(tmp_path):
     assert len(report["leave_one_out"]["fold_values"]) == 3
 
 
+def test_cli_calibrate_params_none_runs_the_fixed_model_unfitted(tmp_path):
+    """--params none --fix: the model with the given (measured) values against the MPM, nothing fitted;
+    its own DRFT as the reference comes back within the integrator's reproducibility, on the checked body too."""
+    s = with_mpm_push(_wheel("wheel-rear-half"))
+    values = {"xi": 0.8, "lam": 2.6, "psi": 0.25, "psi_offset": 0.13}
+    ref = drft_steady_states(with_parameters(s, values), [20.0, 80.0]).to_csv(tmp_path / "wheel.csv")
+    small = drft_steady_states(with_parameters(with_mpm_push(small_wheel_scenario()), values), [30.0])
+    args = ["calibrate", "wheel", "--mpm", str(ref), "--structural", "wheel-rear-half", "--params", "none",
+            *[f"--fix={k}={v}" for k, v in values.items()], "--check", f"small-wheel={small.to_csv(tmp_path / 'small.csv')}",
+            "--out", str(tmp_path / "out"), "--name", "m"]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    assert "nothing fitted" in r.output
+    report = json.loads((tmp_path / "out" / "m.json").read_text())
+    assert report["command"]["fixed"] == values and report["calibration"]["values"] == {}
+    assert report["calibration"]["max_abs_rel_error"] < 1e-9
+    assert report["checks"]["small-wheel"]["calibrated"]["max_abs_rel_error_velocity"] < 1e-9
+    model = json.loads((tmp_path / "out" / "m.model.json").read_text())["force_model"]
+    assert {
+        k: model[f] for k, f in (("xi", "xi"), ("lam", "lam"), ("psi", "psi_slope"), ("psi_offset", "psi_offset"))
+    } == values
+    # the same without --fix is another model: it misses
+    r = CliRunner().invoke(app, args[: args.index("--params") + 2] + ["--out", str(tmp_path / "o2"), "--name", "m"])
+    assert (
+        r.exit_code == 0
+        and json.loads((tmp_path / "o2" / "m.json").read_text())["calibration"]["max_abs_rel_error"] > 0.05
+    )
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--params", "none", "--leave-one-out"], "nothing is fitted"),
+        (["--params", ","], "names no parameter"),
+        (["--fix", "lam"], "NAME=VALUE"),
+        (["--fix", "gamma=1"], "NAME=VALUE"),
+        (["--fix", "lam=big"], "not a number"),
+        (["--fix", "lam=nan"], "finite"),
+        (["--fix", "lam=1", "--fix", "lam=2"], "given twice"),
+        (["--params", "xi,lam", "--fix", "lam=2"], "also in --params"),
+        (["--params", "none", "--fix", "psi=0.2", "--psi-from-dh", "affine"], "do not fit or --fix psi"),
+        (["--params", "none", "--fix", "lam=-1"], "lam"),
+    ],
+)
+def test_cli_calibrate_refuses_bad_params_and_fix(tmp_path, extra, message):
+    ref = SweepResult(
+        "w", "mpm", None, [{"omega_rpm": w, "ok": True, "velocity": 0.1, "sinkage": 0.05} for w in (30.0, 90.0)]
+    )
+    args = ["calibrate", "wheel", "--mpm", str(ref.to_csv(tmp_path / "w.csv")), "--out", str(tmp_path), *extra]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 2 and message in r.output, r.output
+    assert not list(tmp_path.glob("*.json"))  # refused before anything is written
+
+
 def test_cli_calibrate_bad_input_is_a_message(tmp_path):
     r = CliRunner().invoke(app, ["calibrate", "wheel", "--mpm", str(tmp_path / "none.csv")])
     assert r.exit_code == 2 and "not found" in r.output

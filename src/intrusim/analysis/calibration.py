@@ -170,7 +170,10 @@ def parameter_values(scenario: LocomotorScenario, params: Sequence[str]) -> dict
 
 
 def with_parameters(scenario: LocomotorScenario, values: Mapping[str, float]) -> LocomotorScenario:
-    """A copy of ``scenario`` whose force model has ``values`` (names of :data:`PARAMETERS`), validated."""
+    """A copy of ``scenario`` whose force model has ``values`` (names of :data:`PARAMETERS`), validated;
+    ``scenario`` itself for no values."""
+    if not values:
+        return scenario
     names = _check_names(list(values))
     data = scenario.force_model.model_dump()
     data.update({PARAMETERS[p].field: float(values[p]) for p in names})
@@ -358,7 +361,9 @@ def calibrate(
     scenario : LocomotorScenario; its other force-model settings (structural split, rho, the
         parameters not fitted) and its body (mass, external force) are kept.
     reference : MPM steady states (:func:`load_reference`), at least 2 omegas, finite.
-    params : names from :data:`PARAMETERS`: "xi", "psi" (slope c), "psi_offset" (a), "lam".
+    params : names from :data:`PARAMETERS`: "xi", "psi" (slope c), "psi_offset" (a), "lam"; none
+        (empty): nothing is fitted, the result is the scenario's own model against the reference
+        (a model whose parameters were all measured), with one reference omega or more.
     kind : DRFT force-model kind ("drft"; "rft" or "drft-inertial" ignore the psi parameters).
     initial : starting values (default: the scenario's, clipped into the bounds; a term the
         scenario has off (0) starts from its ``Parameter.start_when_off``, bulldozing from 1).
@@ -378,6 +383,13 @@ def calibrate(
     ValueError for unknown or repeated parameter names, bad bounds or starting values, fewer
     than 2 reference omegas or fewer residuals (2 per omega) than parameters, NaN reference data.
     """
+    if not tuple(params):  # nothing fitted: the scenario's model as it is (measured parameters)
+        _reference_arrays(reference)
+        cmp = compare(scenario, reference, kind)
+        return CalibrationResult(
+            scenario=scenario, params=(), values={}, initial={}, bounds={}, comparison=cmp,
+            cost=0.5 * float(np.sum(cmp.residuals() ** 2)), nfev=1, success=True, message="nothing fitted",
+        )  # fmt: skip
     names = _check_names(params)
     w, _, _ = _reference_arrays(reference, min_omegas=2)
     if 2 * len(w) < len(names):

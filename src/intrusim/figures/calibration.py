@@ -117,8 +117,13 @@ def write_calibration(
     report: dict[str, Any] = {"calibration": result.summary(), "verdict": _verdict(result.comparison), "checks": {}}
     check_cmps: dict[str, Comparison] = {}
     for i, (s0, s1, ref, tag) in enumerate(cases):
-        before, after = _curve(s0, ref, kind), _curve(s1, ref, kind)
-        body = [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
+        after = _curve(s1, ref, kind)
+        if result.params:
+            before = _curve(s0, ref, kind)
+            body = [(f"MPM{tag}", s0, ref), (f"DRFT before{tag}", s0, before), (f"DRFT calibrated{tag}", s1, after)]
+        else:  # nothing fitted (--params none): the model as given, once
+            before = after
+            body = [(f"MPM{tag}", s0, ref), (f"DRFT, nothing fitted{tag}", s1, after)]
         curves += body
         label = "calibrated" if i == 0 else re.sub(r"[^A-Za-z0-9_-]+", "_", Path(checks[i - 1].label).stem)
         if any(label == used for used, _ in per_body):  # one file name per body
@@ -140,6 +145,9 @@ def write_calibration(
     report.update(meta or {})
     title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
              f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip
+    if not result.params:
+        title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N), nothing fitted: "
+                 f"{_force_label(start)}")  # fmt: skip
     paths = write_curves(out, name, curves, title)
     if checks:  # one figure per body as well
         for label, body in per_body:
