@@ -23,7 +23,7 @@ def test_the_package_does_not_import_research():
 def test_the_figure_registry_resolves_every_figure():
     from intrusim.figures import FIGURES, REGISTRY, figure
 
-    assert set(FIGURES) == set(REGISTRY) and len(FIGURES) == 11
+    assert set(FIGURES) == set(REGISTRY) and len(FIGURES) == 12
     for name in FIGURES:
         assert callable(FIGURES[name]) and FIGURES[name].__name__ == name.replace("-", "_")
     with pytest.raises(KeyError, match="unknown figure"):

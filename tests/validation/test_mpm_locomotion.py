@@ -287,3 +287,29 @@ def test_half_size_wheel_in_its_similar_setup_falls_on_the_large_wheels_curve():
     assert vs == pytest.approx(vb, rel=0.05) and ss == pytest.approx(sb, rel=0.05), (
         out
     )  # +0.7 %, -2.6 % (x 1 cells: -6 %, +25 %)
+
+
+def test_the_wheel_bears_on_the_grains_in_front_of_its_lowest_point(tmp_path):
+    """The MPM wheel's load around its rim (analysis.contact_load, figure wheel-load) lies in front of
+    its lowest point: the loaded arc (5 % of the load beyond each end) ends behind within 35 deg of
+    straight down, in front short of where the rim meets the undisturbed surface; so the surface the
+    rear bears on, dh_b below the undisturbed one, is about the sinkage, and it deepens with omega
+    (the structural correction's psi grows with x, as the paper's does)."""
+    from intrusim.analysis.contact_load import angular_load, bearing_drop, loaded_arc
+
+    sc, s = grousered_wheel_scenario(), quick_settings("wheel")
+    psi = {}
+    for rpm in (10.0, 60.0):
+        st = run_mpm_steady(sc, s, rpm, tmp_path / f"{rpm:g}")
+        snaps = [np.load(f) for f in sorted((tmp_path / f"{rpm:g}").glob("fields_*.npz"))]
+        assert len(snaps) >= 2
+        load = sum(angular_load(d["x"], d["pressure"], tuple(d["body"][:2]), 1.0, sc.radius, 0.04)[1] for d in snaps)
+        ang = angular_load(snaps[0]["x"], snaps[0]["pressure"], (0.0, 0.0), 1.0, sc.radius, 0.04)[0]
+        rear, front = loaded_arc(ang, load, 0.05)
+        height = float(np.mean([d["body"][1] for d in snaps])) - s.bed_depth
+        assert math.radians(-35.0) < rear < math.radians(5.0)
+        assert math.radians(20.0) < front < math.acos(min(1.0, height / sc.radius))
+        dh_b = bearing_drop(rear, height, sc.radius)
+        assert abs(dh_b / st.sinkage - 1.0) < 0.25
+        psi[rpm] = dh_b / sc.radius
+    assert psi[60.0] > psi[10.0] + 0.2

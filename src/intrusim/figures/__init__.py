@@ -6,7 +6,7 @@ a figure's module (and with it matplotlib, or the MPM solver) is imported only w
 asked for.
 
 * :mod:`intrusim.figures.rft`: RFT / DRFT figures (Fig 4B, 5A-B, 6A, 7B-C, S1), with MPM overlays;
-* :mod:`intrusim.figures.mpm`: MPM wheel figures (Fig 3A-D, 5C-D);
+* :mod:`intrusim.figures.mpm`: MPM wheel figures (Fig 3A-D, 5C-D; and where the wheel bears on the grains);
 * :mod:`intrusim.figures.mpm_plates`: MPM plate intrusions (Fig 6A, S3B);
 * :mod:`intrusim.figures.calibration`: DRFT calibrated on MPM runs (``intrusim calibrate``).
 """
@@ -30,6 +30,7 @@ REGISTRY: dict[str, tuple[str, str]] = {
     "fig7bc": ("rft", "fig7bc"),
     "figs1": ("rft", "figs1"),
     "figs3b": ("mpm_plates", "figs3b"),
+    "wheel-load": ("mpm", "wheel_load"),
 }
 
 FigureFunction = Callable[..., list[Path]]

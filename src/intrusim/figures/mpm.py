@@ -321,6 +321,99 @@ def fig5d(
     return save_figure(fig, out, "fig5d", rows)
 
 
+LOAD_FRACTION = 0.05  # the loaded arc's ends: 5 % of the wheel's load behind it, 5 % in front of it
+
+
+def wheel_load(
+    out: Path, quick: bool = False, parallel: bool = True, runs: Path | None = None, mpm: bool = True
+) -> list[Path]:
+    """Where the MPM wheel bears on the grains (not a paper figure; :mod:`intrusim.analysis.contact_load`).
+
+    Left: the grains' pressure around the Table S1 wheel at 30 and 90 RPM (the last snapshot), the
+    loaded arc's ends marked. Middle: the load around the rim by angle at each omega (the run's
+    saved snapshots together). Right: psi_b = dh_b / r, the depth below the undisturbed surface
+    where the wheel stops bearing on the grains behind, against x = r omega^2 / g, with its affine
+    fit (the structural correction's psi measured; "circle" split), the paper's psi = x and Fig 5C's
+    rear free-surface drop dh / r.
+    """
+    from matplotlib.colors import LogNorm
+
+    from intrusim.analysis.contact_load import angular_load, bearing_drop, loaded_arc
+    from intrusim.figures.reference_set import WHEEL_RPM
+    from intrusim.scenarios import grousered_wheel_scenario
+
+    s = grousered_wheel_scenario()
+    rpm = np.array(MPM_WHEEL_RPM_QUICK if quick else WHEEL_RPM)
+    res = mpm_sweep(s, rpm, quick, parallel, runs)
+    case = mpm_case(s, quick, runs)
+    r, surface, shell = s.radius, case.mpm.bed_depth, 2.0 * case.mpm.h
+    fig, axes = plt.subplots(
+        1, 4, figsize=(16, 3.8), gridspec_kw={"width_ratios": [1, 1, 1.1, 1.1]}, layout="constrained"
+    )
+    rows: list[dict[str, Any]] = []
+    cmap = plt.get_cmap("viridis")
+    for k, w in enumerate(rpm):
+        _fields(s, float(w), quick, runs)  # the run exists (made by the sweep above)
+        snaps = [dict(np.load(f)) for f in sorted(case.run_dir(float(w)).glob("fields_*.npz"))]  # type: ignore[union-attr]
+        total = None
+        for d in snaps:
+            b = d["body"]
+            ang, load = angular_load(
+                d["x"], d["pressure"], (float(b[0]), float(b[1])), 1.0 if b[5] <= 0 else -1.0, r, shell
+            )
+            total = load if total is None else total + load
+        rear, front = loaded_arc(ang, total, LOAD_FRACTION)
+        height = float(np.mean([d["body"][1] for d in snaps])) - surface
+        dh_b = bearing_drop(rear, height, r)
+        x = r * (w * RPM) ** 2 / s.gravity
+        rows.append({"omega_rpm": float(w), "r_omega2_over_g": x, "snapshots": len(snaps), "rear_deg": np.degrees(rear),
+                     "front_deg": np.degrees(front), "geometric_front_deg": np.degrees(np.arccos(min(1.0, height / r))),
+                     "centre_height_m": height, "dh_b_m": dh_b, "psi_b": dh_b / r,
+                     "dh_free_surface_m": float(res.column("surface_drop")[k])})  # fmt: skip
+        axes[2].plot(
+            np.degrees(ang), total / total.max(), color=cmap(k / max(1, len(rpm) - 1)), lw=1, label=f"{w:g} RPM"
+        )
+        for panel, shown in zip(axes[:2], (30.0, 90.0)):
+            if w == shown:
+                d = snaps[-1]
+                sc = _field_panel(panel, d, np.clip(d["pressure"], 10.0, None), LogNorm(10, 1e4), "magma", 0.25)
+                for a in (rear, front):
+                    panel.plot(
+                        [0, 1.3 * r * np.sin(a)], [d["body"][1], d["body"][1] - 1.3 * r * np.cos(a)], "c-", lw=1.2
+                    )
+                panel.axhline(surface, color="0.5", lw=0.6, ls=":")
+                panel.set_title(
+                    f"{w:g} RPM: loaded arc {np.degrees(rear):+.0f} to {np.degrees(front):+.0f} deg", fontsize=9
+                )
+                panel.set_xlabel("x - x_wheel (m)")
+    if any(r_["omega_rpm"] == 30.0 for r_ in rows):
+        fig.colorbar(sc, ax=axes[:2], label="grain pressure (Pa)", fraction=0.02)
+    axes[0].set_ylabel("z (m)")
+    axes[2].set(xlabel="angle from straight down, + forward (deg)", ylabel="load / its peak", xlim=(-90, 110),
+                title=f"load by angle (arc: {LOAD_FRACTION:.0%} out each end)")  # fmt: skip
+    axes[2].legend(fontsize=6, ncol=2)
+    xs, psi = np.array([q["r_omega2_over_g"] for q in rows]), np.array([q["psi_b"] for q in rows])
+    slope, offset = np.polyfit(xs, psi, 1)
+    for q in rows:
+        q["psi_b_fit_offset"], q["psi_b_fit_slope"] = float(offset), float(slope)
+    xx = np.linspace(0.0, xs.max() * 1.05, 50)
+    ax = axes[3]
+    ax.plot(xs, psi, "o", color="tab:red", label=r"MPM: $\psi_b = \delta h_b / r$ (where the wheel stops bearing)")
+    ax.plot(xx, offset + slope * xx, "-", color="tab:red", lw=0.8, label=rf"fit ${offset:.2f} + {slope:.2f}\,x$")
+    ax.plot(xx, xx, ":", color="tab:blue", label=r"paper: $\psi = x$")
+    ax.plot(
+        xs,
+        [q["dh_free_surface_m"] / r for q in rows],
+        "s",
+        mfc="none",
+        color="0.4",
+        label=r"Fig 5C: rear free surface $\delta h / r$",
+    )
+    ax.set(xlabel=r"$x = r\omega^2 / g$", ylabel=r"$\psi$", title="structural correction's depth")
+    ax.legend(fontsize=6)
+    return save_figure(fig, out, "wheel_load", rows)
+
+
 def with_mpm(
     curves: list,
     scenario: LocomotorScenario,
