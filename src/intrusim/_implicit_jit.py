@@ -27,7 +27,7 @@ import numba
 import numpy as np
 
 from intrusim._traction import alpha_constants, element_force, fit_rows, surface_params
-from intrusim.forces import CHUNK, _pseudo_angle, _wrench_kernel
+from intrusim.forces import CHUNK, _angle_of_pseudo, _pseudo_angle, _wrench_kernel, zone_band
 from intrusim.kinematics import bdf2_base as bdf2_base_py
 from intrusim.kinematics import unbalanced_impulse as unbalanced_impulse_py
 from intrusim.laws.bulldozing import bulldozing_wrench
@@ -67,12 +67,31 @@ def _angle_at(w: float, ramp: float, t: float) -> float:
 @numba.njit(cache=True)
 def _force(
     mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g, fs_slope, fs_offset,
-    x, z, th, vx, vz, om,
+    x, z, th, vx, vz, om, zone_width=0.0,
 ):  # fmt: skip
     """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
     mode, dh, fwd = surface_params(fs_kind, fs_r, fs_g, fs_slope, fs_offset, vx, om)
     return _wrench_kernel(
-        mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd, fs_r
+        mid,
+        nrm,
+        area,
+        ccen,
+        crad,
+        x,
+        z,
+        th,
+        vx,
+        vz,
+        om,
+        surface_z,
+        coef,
+        alpha_scale,
+        lam_rho,
+        mode,
+        dh,
+        fwd,
+        fs_r,
+        zone_width,
     )
 
 
@@ -142,14 +161,11 @@ def _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0,
 
 @numba.njit(cache=True)
 def _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius):
-    """Pseudo-angle of the mid-angle of the contact arc (its two ends' mean angle), -inf without a split."""
+    """The mid-angle of the contact arc (its two ends' mean angle, less MID_ANGLE_TIE), rad; -inf without a split."""
     if mode == 0:
         return -np.inf
-    if mode == 3:  # the arc's ends on the circle of arc_radius
-        phi_mid = circle_arc_mid(z - surface_z, arc_radius, dh) - MID_ANGLE_TIE
-        if phi_mid > -np.pi:
-            return _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
-        return -np.inf
+    if mode == 3:  # the arc's ends on the circle of arc_radius (NaN out of contact: no split)
+        return circle_arc_mid(z - surface_z, arc_radius, dh) - MID_ANGLE_TIE
     rx, rz, p_el = geo[0], geo[1], geo[6]
     plo, phi_ = np.inf, -np.inf
     qlo, qhi = -1, -1
@@ -163,36 +179,65 @@ def _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius):
                 phi_, qhi = p, q
     if qlo < 0:
         return -np.inf
-    phi_mid = 0.5 * (np.arctan2(fwd * rx[qlo], -rz[qlo]) + np.arctan2(fwd * rx[qhi], -rz[qhi])) - MID_ANGLE_TIE
-    if phi_mid > -np.pi:
-        return _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
-    return -np.inf
+    return 0.5 * (np.arctan2(fwd * rx[qlo], -rz[qlo]) + np.arctan2(fwd * rx[qhi], -rz[qhi])) - MID_ANGLE_TIE
+
+
+@numba.njit(cache=True)
+def _zone_share(geo, n_g, share, phi_mid, width):
+    """share[:n_g]: the share of dh each element sees (laws.drft.zone_weight): 1 behind the zone's band,
+    linear across it, 0 in front of it (no band, width 0: 1 or 0 at the boundary; phi_mid -inf: 0)."""
+    _, p_lo, p_hi = zone_band(phi_mid, width)
+    p_ = geo[6]
+    for q in range(n_g):
+        p = p_[q]
+        if p < p_lo:
+            share[q] = 1.0
+        elif p < p_hi:
+            share[q] = 0.5 - (_angle_of_pseudo(p) - phi_mid) / width
+        else:
+            share[q] = 0.0
+
+
+@numba.njit(cache=True, inline="always")
+def _put_element_force(geo, q, out, depth, z, vx, vz, om, kz, kx, alpha_scale, lam_rho, thr):
+    """out[:3, q] = (f_x, f_z, r x f) of element q at ``depth``: the expression of forces._wrench_kernel, or
+    exactly 0 where the kernel skips it (above thr, trailing, not submerged; NaN alike)."""
+    rx, rz, nx, nz = geo[0, q], geo[1, q], geo[2, q], geo[3, q]
+    ux = vx - om * rz
+    uz = vz + om * rx
+    vn = nx * ux + nz * uz
+    ex, ez = element_force(nx, nz, geo[4, q], geo[5, q], ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, geo[7, q])
+    on = (not (z + rz >= thr)) & (not (vn <= 0.0)) & (not (depth >= 0.0))
+    ex = ex if on else 0.0
+    ez = ez if on else 0.0
+    out[0, q] = ex
+    out[1, q] = ez
+    out[2, q] = rx * ez - rz * ex
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _element_forces(geo, n_g, out, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh, thr, p_mid):
-    """out[:, :n_g] = (f_x, f_z, r x f) per element, f = (alpha H(-z~)|z~| - n lam rho v_n^2) dA (Eq. 4).
+def _element_forces(geo, n_g, out, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh, thr, phi_mid, width):
+    """out[:3, :n_g] = (f_x, f_z, r x f) per element, f = (alpha H(-z~)|z~| - n lam rho v_n^2) dA (Eq. 4).
 
     Branch-free (vectorised): an element below thr, leading (v_n > 0) and submerged (z~ < 0) gets
-    the expression of forces._wrench_kernel, any other exactly 0.
+    the expression of forces._wrench_kernel, any other exactly 0. Behind the zone boundary
+    ``phi_mid`` (rad; -inf: none) the surface is lowered by dh; with a band (``width`` > 0) by each
+    element's share (_zone_share, in out[3]).
     """
-    rx_, rz_, nx_, nz_, c2b_, s2b_, p_, da_ = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
     kz, kx = fit_rows(k)
-    ox, oz, om_ = out[0], out[1], out[2]
-    for q in range(n_g):
-        rx, rz, nx, nz = rx_[q], rz_[q], nx_[q], nz_[q]
-        ux = vx - om * rz
-        uz = vz + om * rx
-        vn = nx * ux + nz * uz
-        d0 = z + rz - surface_z
-        depth = d0 + dh if p_[q] < p_mid else d0  # the lowered rear surface (p_mid = -inf: none)
-        ex, ez = element_force(nx, nz, c2b_[q], s2b_[q], ux, uz, vn, depth, kz, kx, alpha_scale, lam_rho, da_[q])
-        on = (not (z + rz >= thr)) & (not (vn <= 0.0)) & (not (depth >= 0.0))  # the kernel's skips, NaN alike
-        ex = ex if on else 0.0
-        ez = ez if on else 0.0
-        ox[q] = ex
-        oz[q] = ez
-        om_[q] = rx * ez - rz * ex
+    rz_, p_ = geo[1], geo[6]
+    if width > 0.0:
+        share = out[3]
+        _zone_share(geo, n_g, share, phi_mid, width)
+        for q in range(n_g):
+            depth = z + rz_[q] - surface_z + dh * share[q]
+            _put_element_force(geo, q, out, depth, z, vx, vz, om, kz, kx, alpha_scale, lam_rho, thr)
+    else:
+        p_mid = zone_band(phi_mid, 0.0)[0]
+        for q in range(n_g):
+            d0 = z + rz_[q] - surface_z
+            depth = d0 + dh if p_[q] < p_mid else d0  # the lowered rear surface (p_mid = -inf: none)
+            _put_element_force(geo, q, out, depth, z, vx, vz, om, kz, kx, alpha_scale, lam_rho, thr)
     return out
 
 
@@ -210,15 +255,17 @@ def _ordered_sums(out, n_g):
 
 
 @numba.njit(cache=True)
-def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, mode, dh, fwd, thr, arc_radius):
+def _force_rotated(
+    frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, mode, dh, fwd, thr, arc_radius, width
+):
     """forces._wrench_kernel on a step's rotated elements: sum of (alpha H(-z~)|z~| - n lam rho v_n^2) dA, and moment."""
     geo, n_g, lead, n_l, _, _, vx0, vz0, v_slack = frame
-    p_mid = _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius)
+    phi_mid = _contact_arc_mid(geo, n_g, z, surface_z, mode, dh, fwd, arc_radius)
     src, n = geo, n_g
     if abs(vx - vx0) <= v_slack and abs(vz - vz0) <= v_slack:  # only the elements that can lead
         src, n = lead, n_l
     _element_forces(
-        src, n, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh if mode >= 1 else 0.0, thr, p_mid
+        src, n, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rho, dh if mode >= 1 else 0.0, thr, phi_mid, width
     )
     return _ordered_sums(work, n)
 
@@ -226,7 +273,7 @@ def _force_rotated(frame, work, z, vx, vz, om, surface_z, k, alpha_scale, lam_rh
 @numba.njit(cache=True)
 def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
     """(geo, n_g, lead, n_l, z_low, fwd, vx0, vz0, v_slack): the rotated elements of one step (_rotate_elements)."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br, zw = spec
     mode, dh, _ = surface_params(fk, fr, fg, fc, fo, vx0, om)
     thr = _contact_threshold(sz, mode, dh)
     n_g, n_l = _rotate_elements(mid, nrm, area, ccen, crad, th, z_low, thr, mode, fwd, vx0, vz0, om, v_slack, geo, lead)
@@ -237,15 +284,15 @@ def _rotated_frame(spec, th, z_low, fwd, vx0, vz0, om, v_slack, geo, lead):
 def _step_force(spec, frame, work, k, z, th, vx, vz, om):
     """One force evaluation of a step: from its rotated elements, or from scratch below z_low / on a turned travel sign;
     plus the body's bulldozing resistance (laws.bulldozing, 0 unless the model has one)."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br, zw = spec
     mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     if z >= frame[4] and fwd == frame[5]:
         fx, fz, m = _force_rotated(
-            frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh), fr
+            frame, work, z, vx, vz, om, sz, k, asc, lr, mode, dh, fwd, _contact_threshold(sz, mode, dh), fr, zw
         )
     else:
         fx, fz, m = _force(
-            mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om
+            mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om, zw
         )  # x: unused
     if bs > 0.0:
         bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
@@ -256,12 +303,12 @@ def _step_force(spec, frame, work, k, z, th, vx, vz, om):
 @numba.njit(cache=True)
 def _largest_element_force(spec, frame, work, k, z, vx, vz, om):
     """``ResistiveForceModel.largest_element_force`` on a step's rotated elements: max |f| of one element, N."""
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br, zw = spec
     geo, n_g = frame[0], frame[1]
     mode, dh, fwd = surface_params(fk, fr, fg, fc, fo, vx, om)
     thr = _contact_threshold(sz, mode, dh)
-    p_mid = _contact_arc_mid(geo, n_g, z, sz, mode, dh, fwd, fr)
-    _element_forces(geo, n_g, work, z, vx, vz, om, sz, k, asc, lr, dh if mode >= 1 else 0.0, thr, p_mid)
+    phi_mid = _contact_arc_mid(geo, n_g, z, sz, mode, dh, fwd, fr)
+    _element_forces(geo, n_g, work, z, vx, vz, om, sz, k, asc, lr, dh if mode >= 1 else 0.0, thr, phi_mid, zw)
     big = 0.0
     for q in range(n_g):
         big = max(big, math.hypot(work[0, q], work[1, q]))
@@ -280,7 +327,7 @@ def _implicit_step(
     _rotate_elements and _element_forces,
     ``k``: ``_traction.alpha_constants`` of the fit.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br, zw = spec
     # theta and omega are fixed in the step: rotate the elements that can touch once
     _, _, fwd = surface_params(fk, fr, fg, fc, fo, vx0, om1)
     frame = _rotated_frame(spec, th1, z0 + dt * (vz0 - v_slack), fwd, vx0, vz0, om1, v_slack, geo, lead)
@@ -364,11 +411,11 @@ def simulate_implicit(
     a former run left (``bodies.Carry``), updated in place to this run's at its end.
     Returns (status, step index); on failure ``info`` holds the numbers of the message.
     """
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br = spec
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, bs, br, zw = spec
     om = _omega_at(w_target, ramp, t_start)
     angle0 = _angle_at(w_target, ramp, t_start)
     th_base = th0 - angle0
-    fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, x, z, th0, vx, vz, om)
+    fx, fz, m = _force(mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, x, z, th0, vx, vz, om, zw)
     if bs > 0.0:
         bx, bm = bulldozing_wrench(bs, br, sz, z, vx)
         fx, m = fx + bx, m + bm
@@ -379,7 +426,7 @@ def simulate_implicit(
     has_jac = np.full(1, int(carry[2]), np.int64)
     geo = np.empty((GEO_ROWS, mid.shape[0]))
     lead = np.empty((GEO_ROWS, mid.shape[0]))
-    work = np.empty((3, mid.shape[0]))
+    work = np.empty((4, mid.shape[0]))  # per element: f_x, f_z, r x f, the zone band's share of dh
     fit = alpha_constants(coef)
     v_slack = V_SLACK
     has_back = not math.isnan(xm)  # the state one step back (BDF2)

@@ -395,7 +395,7 @@ def calibrate(
         if psi_from_dh not in ("none", "linear", "affine"):
             raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
         if psi_from_dh != "none" and {"psi", "psi_offset"} & (set(names) | set(fixed)):
-            raise InputError("--psi-from-dh sets psi: do not fit or --fix psi or psi_offset as well")
+            raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset, nor --fix them")
 
         def prepared(name: str, check: bool = False):
             """A scenario with this command's choices: the RFT table, the push, and --structural

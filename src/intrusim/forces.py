@@ -89,6 +89,31 @@ def _pseudo_angle(y: float, x: float) -> float:
     return -2.0 - r
 
 
+@numba.njit(cache=True, inline="always")
+def _angle_of_pseudo(p: float) -> float:
+    """atan2(y, x) of a direction from its pseudo-angle p = _pseudo_angle(y, x) (the inverse map)."""
+    if p > 1.0:
+        return np.arctan2(2.0 - p, 1.0 - p)
+    if p < -1.0:
+        return np.arctan2(-2.0 - p, 1.0 + p)
+    return np.arctan2(p, 1.0 - abs(p))
+
+
+@numba.njit(cache=True)
+def zone_band(phi_mid: float, width: float) -> tuple[float, float, float]:
+    """(p_mid, p_lo, p_hi): pseudo-angles of the zone boundary and of its band's ends (laws.drft.zone_weight);
+    -inf for a boundary at or behind -pi (no split), and p_lo = p_hi = p_mid for width 0."""
+    if not phi_mid > -np.pi:
+        return -np.inf, -np.inf, -np.inf
+    p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
+    if width <= 0.0:
+        return p_mid, p_mid, p_mid
+    lo, hi = phi_mid - 0.5 * width, phi_mid + 0.5 * width
+    p_lo = _pseudo_angle(np.sin(lo), np.cos(lo)) if lo > -np.pi else -np.inf
+    p_hi = _pseudo_angle(np.sin(hi), np.cos(hi)) if hi < np.pi else np.inf
+    return p_mid, p_lo, p_hi
+
+
 @numba.njit(cache=True)
 def _wrench_kernel(
     mid: np.ndarray,
@@ -110,13 +135,15 @@ def _wrench_kernel(
     dh: float,
     forward: float,
     arc_radius: float,
+    zone_width: float,
 ) -> tuple[float, float, float]:
     """Sum of DRFT element forces t dA, t = alpha H(-z~)|z~| - n lam rho v_n^2 (Eq. 4), and moment.
 
     ``ccen``, ``crad``: bounding circles of runs of CHUNK consecutive elements (chunk_bounds).
     Angles of the contact arc (from straight down, + forward) are compared through a monotone
     pseudo-angle; atan2 is taken only for the two ends of the arc. ``fs_mode`` 3 (the "circle" split)
-    takes the arc's ends on the circle of ``arc_radius`` (laws.drft.circle_arc_mid) instead.
+    takes the arc's ends on the circle of ``arc_radius`` (laws.drft.circle_arc_mid) instead. With
+    ``zone_width`` > 0 the lowered surface rises across a band of that angular width (laws.drft.zone_weight).
     """
     c, s = np.cos(theta), np.sin(theta)
     n_el = mid.shape[0]
@@ -157,15 +184,12 @@ def _wrench_kernel(
                     if p > phi_:
                         phi_, hi_y, hi_x = p, py, px
             n_c += 1
-    p_mid = -np.inf  # pseudo-angle of the mid-angle of the contact arc (-inf: no split)
+    phi_mid = -np.inf  # the mid-angle of the contact arc (-inf: no split; NaN for the circle out of contact)
     if fs_mode == 3:
         phi_mid = circle_arc_mid(z - surface_z, arc_radius, dh) - MID_ANGLE_TIE
-        if phi_mid > -np.pi:  # False for NaN: no contact
-            p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
     elif any_sub:
         phi_mid = 0.5 * (np.arctan2(lo_y, lo_x) + np.arctan2(hi_y, hi_x)) - MID_ANGLE_TIE
-        if phi_mid > -np.pi:
-            p_mid = _pseudo_angle(np.sin(phi_mid), np.cos(phi_mid))
+    _, p_lo, p_hi = zone_band(phi_mid, zone_width)  # pseudo-angles: behind p_lo all of dh, from p_hi none
     # pass 2: forces of the candidates, in element order
     kz, kx = fit_rows(alpha_constants(coef))
     fx = 0.0
@@ -183,8 +207,12 @@ def _wrench_kernel(
         if vn <= 0.0:  # leading-edge rule
             continue
         depth = z + rz - surface_z
-        if fs_mode >= 1 and rel[q, 2] < p_mid:
-            depth += dh
+        if fs_mode >= 1:
+            p = rel[q, 2]
+            if p < p_lo:
+                depth += dh
+            elif p < p_hi:
+                depth += dh * (0.5 - (_angle_of_pseudo(p) - phi_mid) / zone_width)
         if depth >= 0.0:
             continue
         ex, ez = element_force(
@@ -256,7 +284,7 @@ class ResistiveForceModel:
         fx, fz, mom = _wrench_kernel(
             self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
             self._coef, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
-            float(getattr(self.free_surface, "radius", 0.0)),
+            float(getattr(self.free_surface, "radius", 0.0)), float(getattr(self.free_surface, "zone_width", 0.0)),
         )  # fmt: skip
         if self.bulldozing > 0.0:
             bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, z, vx)
@@ -267,7 +295,7 @@ class ResistiveForceModel:
         """Arguments of the compiled step loop (``intrusim._implicit_jit``), or None.
 
         (mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_radius,
-        fs_gravity, fs_slope, fs_offset, bulldozing, radius): fs_kind 0 = flat free surface, 1 / 2 =
+        fs_gravity, fs_slope, fs_offset, bulldozing, radius, zone_width): fs_kind 0 = flat free surface, 1 / 2 =
         :class:`WheelRearHalf` with the "submerged" / "effective" split (3: "circle") and psi(x) = offset + slope x
         (the paper's identity, or an :class:`AffinePsi`), whose drop dh = r psi(r omega^2 / g) the
         loop evaluates itself (``_traction.rear_surface_drop``, the same arithmetic as
@@ -299,6 +327,7 @@ class ResistiveForceModel:
             offset,
             float(self.bulldozing),
             float(self.radius),
+            float(getattr(fs, "zone_width", 0.0)),
         )
 
     def element_tractions(self, state: BodyState) -> tuple[np.ndarray, np.ndarray]:
@@ -346,6 +375,7 @@ def make_force_model(
     bulldozing: float = 0.0,
     mu: float = 0.56,
     gravity: float = GRAVITY,
+    zone_width: float = 0.0,
 ) -> ResistiveForceModel:
     """Build one of the paper's force models for ``shape``.
 
@@ -357,6 +387,9 @@ def make_force_model(
         ``"wheel-rear-half-effective"``: the contact arc ends at the lowered rear surface;
         ``"wheel-rear-half-circle"``: the same, the arc's ends taken on the wheel's outer circle, see
         :class:`~intrusim.laws.drft.WheelRearHalf`).
+    zone_width
+        rad, the band across which the wheel's lowered rear surface rises (``WheelRearHalf.zone_width``;
+        0: the paper's sharp split).
     psi
         free-surface law of the wheel structural correction, dh = r psi(r omega^2 / g) (paper:
         the identity; :func:`~intrusim.laws.drft.free_surface_law` builds a fitted affine one).
@@ -377,12 +410,10 @@ def make_force_model(
         if structural not in STRUCTURAL_MODELS:
             raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
         fs: FreeSurfaceModel = FlatFreeSurface()
-        if structural == "wheel-rear-half":
-            fs = WheelRearHalf(shape.radius, psi=psi)
-        elif structural == "wheel-rear-half-effective":
-            fs = WheelRearHalf(shape.radius, psi=psi, split="effective")
-        elif structural == "wheel-rear-half-circle":
-            fs = WheelRearHalf(shape.radius, psi=psi, split="circle")
+        splits = {"wheel-rear-half": "submerged", "wheel-rear-half-effective": "effective",
+                  "wheel-rear-half-circle": "circle"}  # fmt: skip
+        if structural in splits:
+            fs = WheelRearHalf(shape.radius, psi=psi, split=splits[structural], zone_width=zone_width)
         return ResistiveForceModel(
             els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull
         )

@@ -336,7 +336,7 @@ def test_cli_calibrate_params_none_runs_the_fixed_model_unfitted(tmp_path):
         (["--fix", "lam=nan"], "finite"),
         (["--fix", "lam=1", "--fix", "lam=2"], "given twice"),
         (["--params", "xi,lam", "--fix", "lam=2"], "also in --params"),
-        (["--params", "none", "--fix", "psi=0.2", "--psi-from-dh", "affine"], "do not fit or --fix psi"),
+        (["--params", "none", "--fix", "psi=0.2", "--psi-from-dh", "affine"], "nor --fix them"),
         (["--params", "none", "--fix", "lam=-1"], "lam"),
     ],
 )

@@ -67,3 +67,24 @@ def test_bad_input_names_parameter():
         structural_depth_shift(0.1, float("inf"))
     with pytest.raises(InputError, match="radius"):
         WheelRearHalf(radius=-0.1)
+
+
+def test_zone_band_lowers_the_surface_by_a_share_that_falls_across_the_band():
+    """zone_weight: all of dh behind the band, none in front of it, linear across it; width 0 is the sharp split."""
+    from intrusim.laws.drft import zone_weight
+
+    assert [zone_weight(a, 0.2, 0.4) for a in (-0.1, 0.0, 0.1, 0.2, 0.3, 0.4, 0.5)] == pytest.approx(
+        [1.0, 1.0, 0.75, 0.5, 0.25, 0.0, 0.0]
+    )
+    assert zone_weight(0.19, 0.2, 0.0) == 1.0 and zone_weight(0.2, 0.2, 0.0) == 0.0
+    # on a wheel: between the sharp split's 0 and dh, falling with the angle, and the sharp split as width -> 0
+    ang = np.linspace(-1.2, 1.2, 241)
+    pos = np.c_[0.1 * np.sin(ang), -0.1 * np.cos(ang)]
+    for split in ("submerged", "circle"):
+        sharp = WheelRearHalf(0.1, split=split).depth_shift(pos, np.array([0.0, 0.05]), -10.0, 0.0, 0.0)
+        band = WheelRearHalf(0.1, split=split, zone_width=0.4).depth_shift(pos, np.array([0.0, 0.05]), -10.0, 0.0, 0.0)
+        dh = sharp.max()
+        assert dh > 0 and np.all(np.diff(band) <= 1e-15) and np.any((band > 0.01 * dh) & (band < 0.99 * dh))
+        assert abs(band.sum() - sharp.sum()) < 0.03 * sharp.sum()  # the band moves dh about, symmetric about the split
+        thin = WheelRearHalf(0.1, split=split, zone_width=1e-9).depth_shift(pos, np.array([0.0, 0.05]), -10.0, 0.0, 0.0)
+        assert np.array_equal(thin, sharp)

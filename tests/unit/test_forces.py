@@ -19,10 +19,11 @@ def random_states(n, seed=0):
                         rng.uniform(-1, 1), rng.uniform(-0.3, 0.3), rng.uniform(-12, 12))  # fmt: skip
 
 
+@pytest.mark.parametrize("width", [0.0, 0.3])
 @pytest.mark.parametrize("structural", ["wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle"])
 @pytest.mark.parametrize("kind", KINDS)
-def test_compiled_matches_numpy_laws(kind, structural):
-    m = make_force_model(kind, WHEEL, structural=structural)
+def test_compiled_matches_numpy_laws(kind, structural, width):
+    m = make_force_model(kind, WHEEL, structural=structural, zone_width=width)
     for st in random_states(300):
         a, b = m.wrench(st).as_array(), m.wrench_numpy(st).as_array()
         assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * (1 + np.abs(b).max()))

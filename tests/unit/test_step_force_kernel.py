@@ -16,6 +16,8 @@ CASES = [
     ("wheel", "drft", 30.0, None, "wheel-rear-half"),
     ("wheel", "drft", 90.0, None, "wheel-rear-half-effective"),
     ("wheel", "drft", 60.0, None, "wheel-rear-half-circle"),
+    ("wheel", "drft", 90.0, None, ("wheel-rear-half-circle", 0.3)),  # a zone band 0.3 rad wide
+    ("wheel", "drft", 30.0, None, ("wheel-rear-half", 0.2)),
     ("runner", "drft", 200.0, 4.0, None),
     ("wheel", "rft", 60.0, None, None),
 ]
@@ -26,7 +28,8 @@ def _model(sc, kind, lam, structural):
         return sc.build_model(kind, lam)
     from intrusim.forces import make_force_model
 
-    return make_force_model(kind, sc.rft_shape(), lam=1.0, structural=structural)
+    structural, width = structural if isinstance(structural, tuple) else (structural, 0.0)
+    return make_force_model(kind, sc.rft_shape(), lam=1.0, structural=structural, zone_width=width)
 
 
 @pytest.mark.parametrize("name, kind, rpm, lam, structural", CASES)
@@ -34,9 +37,9 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
     sc = get_scenario(name)
     tr = run_steady(sc, kind, rpm, lam).trajectory
     spec = _model(sc, kind, lam, structural).compiled_spec()
-    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, _, _ = spec  # no bulldozing term here
+    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, _, _, zw = spec  # no bulldozing term here
     n_el = mid.shape[0]
-    geo, lead, work = np.empty((jit.GEO_ROWS, n_el)), np.empty((jit.GEO_ROWS, n_el)), np.empty((3, n_el))
+    geo, lead, work = np.empty((jit.GEO_ROWS, n_el)), np.empty((jit.GEO_ROWS, n_el)), np.empty((4, n_el))
     k = jit.alpha_constants(coef)
     rng = np.random.default_rng(1)
     dt, slack = 0.01, 0.02
@@ -52,7 +55,7 @@ def test_step_force_equals_kernel_bit_for_bit(name, kind, rpm, lam, structural):
                 z = z0 + dt * vz
                 got = jit._step_force(spec, frame, work, k, z, th, vx, vz, om_i)
                 ref = jit._force(
-                    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om_i
+                    mid, nrm, area, ccen, crad, sz, coef, asc, lr, fk, fr, fg, fc, fo, 0.0, z, th, vx, vz, om_i, zw
                 )
                 assert got == ref
                 if z < frame[4] or jit.surface_params(fk, fr, fg, fc, fo, vx, om_i)[2] != fwd:

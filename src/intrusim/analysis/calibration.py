@@ -54,6 +54,12 @@ PARAMETERS: dict[str, Parameter] = {
     "psi": Parameter("psi_slope", (0.0, 5.0), "slope c of the free-surface law psi(x) = a + c x (paper 1)"),
     "psi_offset": Parameter("psi_offset", (-0.5, 0.5), "offset a of psi(x) = a + c x (paper 0)"),
     "lam": Parameter("lam", (0.0, 50.0), "lambda of the inertial correction (paper wheel 1)"),
+    "zone_width": Parameter(
+        "zone_width",
+        (0.0, 1.5),
+        "rad, the band across which the lowered rear surface rises (paper: 0, a sharp split)",
+        0.2,
+    ),
     "bulldozing": Parameter(
         "bulldozing", (0.0, 20.0), "k_b of the bulldozing resistance k_b K_p rho g W d^2 / 2 (paper: none, 0)", 1.0
     ),

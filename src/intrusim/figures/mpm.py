@@ -33,6 +33,7 @@ from intrusim.scenarios.mpm_settings import apply_settings, read_record, setting
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.
 MPM_WHEEL_RPM = np.array([10.0, 20.0, 30.0, 45.0, 60.0, 90.0])
 MPM_WHEEL_RPM_QUICK = np.array([10.0, 30.0, 50.0, 70.0, 90.0])
+MPM_WHEEL_SWEEP_RPM = np.arange(10.0, 91.0, 10.0)  # every 10 RPM: the wheel sweep of the reference set (wheel-load)
 MPM_SMALL_WHEEL_RPM = np.array([30.0, 90.0])
 MPM_RUNNER_RPM = np.array([20.0, 50.0, 100.0, 150.0, 200.0, 300.0])
 MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
@@ -339,11 +340,10 @@ def wheel_load(
     from matplotlib.colors import LogNorm
 
     from intrusim.analysis.contact_load import angular_load, bearing_drop, loaded_arc
-    from intrusim.figures.reference_set import WHEEL_RPM
     from intrusim.scenarios import grousered_wheel_scenario
 
     s = grousered_wheel_scenario()
-    rpm = np.array(MPM_WHEEL_RPM_QUICK if quick else WHEEL_RPM)
+    rpm = MPM_WHEEL_RPM_QUICK if quick else MPM_WHEEL_SWEEP_RPM
     res = mpm_sweep(s, rpm, quick, parallel, runs)
     case = mpm_case(s, quick, runs)
     r, surface, shell = s.radius, case.mpm.bed_depth, 2.0 * case.mpm.h

@@ -113,10 +113,15 @@ def rear_half_mask(position: np.ndarray, centre: np.ndarray, submerged: np.ndarr
     Returns a boolean mask (all False when nothing is submerged).
     """
     phi = contact_angle(position, centre, forward)
-    if not np.any(submerged):
-        return np.zeros(len(phi), dtype=bool)
-    mid = 0.5 * (phi[submerged].min() + phi[submerged].max())
-    return phi < mid - MID_ANGLE_TIE  # evenly spaced elements can sit exactly on the mid-angle
+    return phi < arc_mid_angle(phi, submerged)  # False everywhere for NaN
+
+
+def arc_mid_angle(phi: np.ndarray, contact: np.ndarray) -> float:
+    """The mid-angle of the arc spanned by the ``contact`` elements at angles ``phi`` (rad), less
+    MID_ANGLE_TIE (evenly spaced elements can sit exactly on it); NaN when none is in contact."""
+    if not np.any(contact):
+        return float("nan")
+    return 0.5 * float(phi[contact].min() + phi[contact].max()) - MID_ANGLE_TIE
 
 
 @numba.njit(cache=True)
@@ -132,6 +137,16 @@ def circle_arc_mid(height: float, radius: float, dh: float) -> float:
     u = (height + dh) / radius
     rear = -np.arccos(max(u, -1.0)) if u < 1.0 else 0.0
     return 0.5 * (front + rear)
+
+
+@numba.njit(cache=True)
+def zone_weight(phi: float, mid: float, width: float) -> float:
+    """Share of dh an element at angle ``phi`` sees (rad, from straight down, + forward): 1 behind the
+    zone boundary ``mid``, 0 in front of it; with ``width`` > 0 the lowered surface rises linearly
+    across the band of that angular width centred on ``mid`` (width 0: the paper's sharp split)."""
+    if width <= 0.0:
+        return 1.0 if phi < mid else 0.0
+    return min(1.0, max(0.0, 0.5 - (phi - mid) / width))
 
 
 class FreeSurfaceModel(Protocol):
@@ -184,15 +199,20 @@ class WheelRearHalf:
     gravity : g, m/s^2.
     psi : dimensionless law, identity by default.
     split : "submerged", "effective" or "circle".
+    zone_width : rad, the angular width of the band across which the lowered surface rises from
+        -dh behind the mid-angle to 0 in front of it (:func:`zone_weight`); 0: the paper's sharp
+        split, where each element that crosses the mid-angle sees dh appear at once. Not in the paper.
     """
 
     radius: float
     gravity: float = GRAVITY
     psi: Callable[[float], float] = identity_psi
     split: str = "submerged"
+    zone_width: float = 0.0
 
     def __post_init__(self) -> None:
         positive("radius", self.radius)
+        non_negative("zone_width", self.zone_width)
         positive("gravity", self.gravity)
         if self.split not in SPLITS:
             raise InputError(f"split must be one of {SPLITS}, got {self.split!r}")
@@ -204,18 +224,18 @@ class WheelRearHalf:
         fwd = travel_sign(omega, vx)
         dh = self.drop(omega)
         depth = np.asarray(position)[:, 1] - surface_z
+        phi = contact_angle(position, centre, fwd)
         if self.split == "circle":
-            mid = circle_arc_mid(float(centre[1]) - surface_z, self.radius, dh)
-            if not np.isfinite(mid):
-                return np.zeros(len(depth))
-            return np.where(contact_angle(position, centre, fwd) < mid - MID_ANGLE_TIE, dh, 0.0)
-        if self.split == "effective":
-            behind = contact_angle(position, centre, fwd) < 0.0
-            contact = np.where(behind, depth + dh < 0.0, depth < 0.0)
+            mid = circle_arc_mid(float(centre[1]) - surface_z, self.radius, dh) - MID_ANGLE_TIE
+        elif self.split == "effective":
+            mid = arc_mid_angle(phi, np.where(phi < 0.0, depth + dh < 0.0, depth < 0.0))
         else:
-            contact = depth < 0.0
-        rear = rear_half_mask(position, centre, contact, fwd)
-        return np.where(rear, dh, 0.0)
+            mid = arc_mid_angle(phi, depth < 0.0)
+        if not np.isfinite(mid):
+            return np.zeros(len(depth))
+        if self.zone_width > 0.0:
+            return dh * np.clip(0.5 - (phi - mid) / self.zone_width, 0.0, 1.0)
+        return np.where(phi < mid, dh, 0.0)
 
     def kernel_params(self, omega: float, vx: float) -> tuple[int, float, float]:
         """(mode, dh, forward sign) for the compiled force kernel: mode 1 = submerged split, 2 = effective, 3 = circle."""

@@ -94,6 +94,8 @@ class ForceModelConfig(Config):
         :mod:`intrusim.analysis.calibration`.
     internal_friction : mu = tan(phi) of the medium, for the bulldozing term's Rankine K_p
         (Table S1: 0.56).
+    zone_width : rad, the angular band across which the wheel's lowered rear surface rises from -dh
+        to 0 (``laws.drft.zone_weight``). Not in the paper: 0 (default) is its sharp split.
     """
 
     xi: float = Field(0.35, ge=0.0)
@@ -105,6 +107,7 @@ class ForceModelConfig(Config):
     rft_coefficients: str | None = None
     bulldozing: float = Field(0.0, ge=0.0, allow_inf_nan=False)
     internal_friction: float = Field(0.56, ge=0.0, allow_inf_nan=False)
+    zone_width: float = Field(0.0, ge=0.0, le=math.pi, allow_inf_nan=False)
 
 
 GOLDEN_FRACTION = 0.5 * (math.sqrt(5.0) - 1.0)  # 0.618...: the fraction farthest from any ratio of small whole numbers
@@ -209,4 +212,5 @@ class ModelKindsMixin(Config):
             bulldozing=fm.bulldozing,
             mu=fm.internal_friction,
             gravity=getattr(self, "gravity", GRAVITY),
+            zone_width=fm.zone_width,
         )
