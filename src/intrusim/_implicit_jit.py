@@ -31,7 +31,7 @@ from intrusim.forces import CHUNK, _angle_of_pseudo, _pseudo_angle, _wrench_kern
 from intrusim.kinematics import bdf2_base as bdf2_base_py
 from intrusim.kinematics import unbalanced_impulse as unbalanced_impulse_py
 from intrusim.laws.bulldozing import bulldozing_wrench
-from intrusim.laws.drft import MID_ANGLE_TIE, circle_arc_mid
+from intrusim.laws.drft import MID_ANGLE_TIE, circle_arc_mid, zone_weight
 
 # status codes
 OK = 0
@@ -193,7 +193,7 @@ def _zone_share(geo, n_g, share, phi_mid, width):
         if p < p_lo:
             share[q] = 1.0
         elif p < p_hi:
-            share[q] = 0.5 - (_angle_of_pseudo(p) - phi_mid) / width
+            share[q] = zone_weight(_angle_of_pseudo(p), phi_mid, width)
         else:
             share[q] = 0.0
 

@@ -36,6 +36,7 @@ from intrusim.laws.drft import (
     circle_arc_mid,
     identity_psi,
     inertial_traction,
+    zone_weight,
 )  # fmt: skip
 from intrusim.laws.rft import N_PER_CM3, as_table, rft_traction
 from intrusim.params import GRAVITY
@@ -212,7 +213,7 @@ def _wrench_kernel(
             if p < p_lo:
                 depth += dh
             elif p < p_hi:
-                depth += dh * (0.5 - (_angle_of_pseudo(p) - phi_mid) / zone_width)
+                depth += dh * zone_weight(_angle_of_pseudo(p), phi_mid, zone_width)
         if depth >= 0.0:
             continue
         ex, ez = element_force(

@@ -233,7 +233,7 @@ class WheelRearHalf:
             mid = arc_mid_angle(phi, depth < 0.0)
         if not np.isfinite(mid):
             return np.zeros(len(depth))
-        if self.zone_width > 0.0:
+        if self.zone_width > 0.0:  # zone_weight, vectorised
             return dh * np.clip(0.5 - (phi - mid) / self.zone_width, 0.0, 1.0)
         return np.where(phi < mid, dh, 0.0)
 
