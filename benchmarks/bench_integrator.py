@@ -5,7 +5,8 @@ Run:  python benchmarks/bench_integrator.py [--repeat N] [--write docs/locomotio
 For each body (the Table S1 wheel, the half-size wheel of Fig S1, the four-flap runner, the
 Table S1 wheel with the calibrated bulldozing term of docs/results.md, and the Table S1 wheel with
 a rough calibration: xi 0.545, lambda 0.09, psi 0.311 + 0.604 x in the effective rear-half zone,
-``benchmarks/data/rough_zone_wheel.model.json``, an earlier blind-prediction fit) and omega,
+``benchmarks/data/rough_zone_wheel.model.json``, an earlier blind-prediction fit; and with the
+blind calibration of docs/results.md, ``docs/figures/blind.model.json``) and omega,
 the DRFT steady state (v, sinkage) is computed
 
 * with the defaults: BDF2, the step of ``RunConfig.dt`` (k + 0.618 steps per lug pitch, at least
@@ -40,9 +41,11 @@ BODIES = {
     "small wheel (Fig S1)": (small_wheel_scenario, (10.0, 30.0, 50.0, 70.0, 90.0)),
     "four-flap runner": (four_flap_runner_scenario, (10.0, 30.0, 90.0, 150.0, 300.0)),
     "wheel + bulldozing, k_b 4.38": (lambda: bulldozing_wheel(4.38), (10.0, 30.0, 60.0)),
-    "wheel, rough calibration": (lambda: blind_wheel(), (10.0, 30.0, 60.0, 90.0)),
+    "wheel, rough calibration": (lambda: blind_wheel(ROUGH_MODEL), (10.0, 30.0, 60.0, 90.0)),
+    "wheel, blind calibration": (lambda: blind_wheel(BLIND_MODEL), (10.0, 30.0, 50.0, 70.0, 80.0, 90.0)),
 }
-BLIND_MODEL = ROOT / "benchmarks" / "data" / "rough_zone_wheel.model.json"
+ROUGH_MODEL = ROOT / "benchmarks" / "data" / "rough_zone_wheel.model.json"
+BLIND_MODEL = ROOT / "docs" / "figures" / "blind.model.json"  # docs/results.md, "Blind prediction"
 
 
 def bulldozing_wheel(k_b: float):
@@ -51,10 +54,10 @@ def bulldozing_wheel(k_b: float):
     return with_parameters(with_mpm_push(grousered_wheel_scenario()), {"bulldozing": k_b})
 
 
-def blind_wheel():
-    """The Table S1 wheel driven by a rough calibration (xi, psi, lambda and the
-    effective rear-half zone fitted to an earlier MPM sweep)."""
-    return read_model(BLIND_MODEL).apply(grousered_wheel_scenario())
+def blind_wheel(path):
+    """The Table S1 wheel driven by a calibrated model file: the rough calibration (xi, psi, lambda and the
+    effective rear-half zone fitted to an earlier MPM sweep) or docs/results.md's blind calibration."""
+    return read_model(path).apply(grousered_wheel_scenario())
 
 
 REFINE = 16  # the reference step: the default / REFINE
@@ -80,7 +83,15 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--write", type=str, default=None, help="replace this markdown file's bench_integrator table")
+    ap.add_argument("--only", type=str, default=None, help="comma-separated body labels to run (not with --write)")
     a = ap.parse_args()
+    bodies = BODIES
+    if a.only is not None:
+        if a.write is not None:
+            ap.error("--only measures part of the table: not with --write")
+        bodies = {k: v for k, v in BODIES.items() if k in [x.strip() for x in a.only.split(",")]}
+        if not bodies:
+            ap.error(f"--only names none of {list(BODIES)}")
     if a.write is not None:
         check_markers(a.write, "bench_integrator")
     run_steady(grousered_wheel_scenario(), "drft", 30.0)  # load the compiled loop
@@ -88,7 +99,7 @@ def main() -> None:
     worst: dict[str, list[float]] = {}  # the largest |error| of each body: against dt -> 0, against converged
     print(f"{'body':<26} {'RPM':>4} {'dt ms':>7} {'steps/rev':>9} | {'v err %':>8} {'sink err %':>10} | "
           f"{'conv v %':>8} {'conv sink %':>11} | {'former v %':>10} {'former sink %':>13} | {'x real time':>11}")  # fmt: skip
-    for label, (make, omegas) in BODIES.items():
+    for label, (make, omegas) in bodies.items():
         scen = make()
         for rpm in omegas:
             times = []

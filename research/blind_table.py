@@ -53,7 +53,7 @@ BODIES = (
     ("wheel-10-grousers", "10 grousers"),
     ("wheel-30-grousers", "30 grousers"),
     ("wheel-tall-grousers", "grousers twice as tall"),
-    ("runner", "four-flap runner (lambda 4, no zone)"),
+    ("runner", "four-flap runner (no zone)"),
 )
 TARGET = 0.10
 
@@ -127,7 +127,7 @@ def figures(folder: Path, out: Path) -> list[Path]:
         av.set(xlabel="omega (RPM)", ylabel="v (m/s)", title=label)
         az.set(xlabel="omega (RPM)", ylabel="sinkage (mm)")
         av.legend(fontsize=7)
-        path = out / f"blind_{body or 'wheel'}.png"
+        path = out / f"blind_table_{body or 'wheel'}.png"
         fig.savefig(path, dpi=110)
         plt.close(fig)
         paths.append(path)
