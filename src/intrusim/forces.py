@@ -269,6 +269,8 @@ class ResistiveForceModel:
         cen, rad = chunk_bounds(self._mid)
         object.__setattr__(self, "_ccen", cen)
         object.__setattr__(self, "_crad", rad)
+        fs = self.free_surface  # the compiled kernel's circle radius and zone band (0 for models without them)
+        object.__setattr__(self, "_arc", (float(getattr(fs, "radius", 0.0)), float(getattr(fs, "zone_width", 0.0))))
 
     def wrench(self, state: BodyState) -> Wrench:
         """Force and moment on the body (compiled path)."""
@@ -285,7 +287,7 @@ class ResistiveForceModel:
         fx, fz, mom = _wrench_kernel(
             self._mid, self._nrm, self._area, self._ccen, self._crad, x, z, theta, vx, vz, omega, self.surface_z,
             self._coef, self.xi * N_PER_CM3, self.lam * self.rho, mode, dh, fwd,
-            float(getattr(self.free_surface, "radius", 0.0)), float(getattr(self.free_surface, "zone_width", 0.0)),
+            *self._arc,
         )  # fmt: skip
         if self.bulldozing > 0.0:
             bx, bm = bulldozing_wrench(self.bulldozing, self.radius, self.surface_z, z, vx)
@@ -328,7 +330,7 @@ class ResistiveForceModel:
             offset,
             float(self.bulldozing),
             float(self.radius),
-            float(getattr(fs, "zone_width", 0.0)),
+            self._arc[1],
         )
 
     def element_tractions(self, state: BodyState) -> tuple[np.ndarray, np.ndarray]:

@@ -232,8 +232,8 @@ def fig5c(
     return save_figure(fig, out, "fig5c", rows)
 
 
-def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> dict[str, np.ndarray]:
-    """The last saved particle snapshot of a run (running it first if needed)."""
+def _snapshot_files(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> list[Path]:
+    """The saved particle snapshots of a run, oldest first (running it first if needed)."""
     case = mpm_case(scenario, quick, runs)
     check_run_folder(case, rpm)
     run_dir = case.run_dir(rpm)
@@ -242,7 +242,12 @@ def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | N
     files = sorted(run_dir.glob("fields_*.npz"))  # type: ignore[union-attr]
     if not files:
         raise FileNotFoundError(f"{run_dir} has no fields_*.npz snapshot")
-    return dict(np.load(files[-1]))
+    return files
+
+
+def _fields(scenario: LocomotorScenario, rpm: float, quick: bool, runs: Path | None) -> dict[str, np.ndarray]:
+    """The last saved particle snapshot of a run (running it first if needed)."""
+    return dict(np.load(_snapshot_files(scenario, rpm, quick, runs)[-1]))
 
 
 def _field_panel(ax: Any, d: dict[str, np.ndarray], values: np.ndarray, norm: Any, cmap: str, half_width: float) -> Any:
@@ -353,8 +358,7 @@ def wheel_load(
     rows: list[dict[str, Any]] = []
     cmap = plt.get_cmap("viridis")
     for k, w in enumerate(rpm):
-        _fields(s, float(w), quick, runs)  # the run exists (made by the sweep above)
-        snaps = [dict(np.load(f)) for f in sorted(case.run_dir(float(w)).glob("fields_*.npz"))]  # type: ignore[union-attr]
+        snaps = [dict(np.load(f)) for f in _snapshot_files(s, float(w), quick, runs)]
         total = None
         for d in snaps:
             b = d["body"]
