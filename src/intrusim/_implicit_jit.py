@@ -67,32 +67,14 @@ def _angle_at(w: float, ramp: float, t: float) -> float:
 @numba.njit(cache=True)
 def _force(
     mid, nrm, area, ccen, crad, surface_z, coef, alpha_scale, lam_rho, fs_kind, fs_r, fs_g, fs_slope, fs_offset,
-    x, z, th, vx, vz, om, zone_width=0.0,
+    x, z, th, vx, vz, om, zone_width,
 ):  # fmt: skip
     """``ResistiveForceModel.wrench_tuple`` for a model with a compiled free surface."""
     mode, dh, fwd = surface_params(fs_kind, fs_r, fs_g, fs_slope, fs_offset, vx, om)
     return _wrench_kernel(
-        mid,
-        nrm,
-        area,
-        ccen,
-        crad,
-        x,
-        z,
-        th,
-        vx,
-        vz,
-        om,
-        surface_z,
-        coef,
-        alpha_scale,
-        lam_rho,
-        mode,
-        dh,
-        fwd,
-        fs_r,
+        mid, nrm, area, ccen, crad, x, z, th, vx, vz, om, surface_z, coef, alpha_scale, lam_rho, mode, dh, fwd, fs_r,
         zone_width,
-    )
+    )  # fmt: skip
 
 
 # Within one implicit step theta and omega are fixed: every force evaluation of the Newton

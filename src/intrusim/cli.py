@@ -403,7 +403,7 @@ def calibrate(
             s = with_rft_table(load_scenario(name), rft_coefficients)
             if structural is not None and not (check and s.force_model.structural == "none"):
                 s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
-            s = with_parameters(s, fixed) if fixed else s
+            s = with_parameters(s, fixed)
             return with_mpm_push(s) if mpm_push else s
 
         stem = name or f"calibration_{Path(scenario).stem.replace('-', '_')}"
@@ -437,7 +437,7 @@ def calibrate(
                     f"--check {label.strip()} given twice: put its omegas in one CSV (research/steady_to_sweep.py takes several files)"
                 )
             s = prepared(label.strip(), check=True)
-            s = with_parameters(s, psi_values) if psi_values else s
+            s = with_parameters(s, psi_values)
             try:  # a bad check is refused before the fit, not after it
                 checks.append(
                     Check(

@@ -43,7 +43,9 @@ from intrusim.params import GRAVITY
 
 ModelKind = Literal["rft", "drft-inertial", "drft"]
 Structural = Literal["none", "wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle"]
-STRUCTURAL_MODELS: tuple[str, ...] = ("none", "wheel-rear-half", "wheel-rear-half-effective", "wheel-rear-half-circle")
+STRUCTURAL_SPLITS = {"wheel-rear-half": "submerged", "wheel-rear-half-effective": "effective",
+                     "wheel-rear-half-circle": "circle"}  # fmt: skip  # each wheel model's WheelRearHalf.split
+STRUCTURAL_MODELS: tuple[str, ...] = ("none", *STRUCTURAL_SPLITS)
 
 
 class ForceModel(Protocol):
@@ -413,10 +415,8 @@ def make_force_model(
         if structural not in STRUCTURAL_MODELS:
             raise InputError(f"structural must be one of {STRUCTURAL_MODELS}, got {structural!r}")
         fs: FreeSurfaceModel = FlatFreeSurface()
-        splits = {"wheel-rear-half": "submerged", "wheel-rear-half-effective": "effective",
-                  "wheel-rear-half-circle": "circle"}  # fmt: skip
-        if structural in splits:
-            fs = WheelRearHalf(shape.radius, psi=psi, split=splits[structural], zone_width=zone_width)
+        if structural in STRUCTURAL_SPLITS:
+            fs = WheelRearHalf(shape.radius, psi=psi, split=STRUCTURAL_SPLITS[structural], zone_width=zone_width)
         return ResistiveForceModel(
             els, xi=xi, rho=rho, lam=lam, free_surface=fs, surface_z=surface_z, coef=coef, **bull
         )

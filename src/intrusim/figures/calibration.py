@@ -143,11 +143,11 @@ def write_calibration(
                 **entry,
             }
     report.update(meta or {})
-    title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N); before: "
-             f"{_force_label(start)};\ncalibrated: {_force_label(result.scenario)}")  # fmt: skip
-    if not result.params:
-        title = (f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N), nothing fitted: "
-                 f"{_force_label(start)}")  # fmt: skip
+    head = f"DRFT on MPM ({start.force_model.structural}, DRFT push {start.external_fx:g} N)"
+    if result.params:
+        title = f"{head}; before: {_force_label(start)};\ncalibrated: {_force_label(result.scenario)}"
+    else:
+        title = f"{head}, nothing fitted: {_force_label(start)}"
     paths = write_curves(out, name, curves, title)
     if checks:  # one figure per body as well
         for label, body in per_body:

@@ -344,7 +344,9 @@ def wheel_load(
     """
     from matplotlib.colors import LogNorm
 
+    from intrusim.analysis.calibration import fit_psi_affine
     from intrusim.analysis.contact_load import angular_load, bearing_drop, loaded_arc
+    from intrusim.laws.drft import travel_sign
     from intrusim.scenarios import grousered_wheel_scenario
 
     s = grousered_wheel_scenario()
@@ -363,7 +365,7 @@ def wheel_load(
         for d in snaps:
             b = d["body"]
             ang, load = angular_load(
-                d["x"], d["pressure"], (float(b[0]), float(b[1])), 1.0 if b[5] <= 0 else -1.0, r, shell
+                d["x"], d["pressure"], (float(b[0]), float(b[1])), travel_sign(b[5], b[3]), r, shell
             )
             total = load if total is None else total + load
         rear, front = loaded_arc(ang, total, LOAD_FRACTION)
@@ -397,7 +399,7 @@ def wheel_load(
                 title=f"load by angle (arc: {LOAD_FRACTION:.0%} out each end)")  # fmt: skip
     axes[2].legend(fontsize=6, ncol=2)
     xs, psi = np.array([q["r_omega2_over_g"] for q in rows]), np.array([q["psi_b"] for q in rows])
-    slope, offset = np.polyfit(xs, psi, 1)
+    offset, slope = fit_psi_affine(rpm * RPM, psi * r, r, s.gravity)
     for q in rows:
         q["psi_b_fit_offset"], q["psi_b_fit_slope"] = float(offset), float(slope)
     xx = np.linspace(0.0, xs.max() * 1.05, 50)

@@ -171,8 +171,8 @@ class FlatFreeSurface:
         return 0, 0.0, 1.0
 
 
-SPLITS = ("submerged", "effective", "circle")
 SPLIT_MODES = {"submerged": 1, "effective": 2, "circle": 3}  # the compiled kernel's mode of each split
+SPLITS = tuple(SPLIT_MODES)
 
 
 @dataclass(frozen=True)
