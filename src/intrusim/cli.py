@@ -519,7 +519,7 @@ def _mpm_references(
     w = omega_list(omegas) if omegas is not None else (MPM_RUNNER_RPM if scn.body == "runner" else MPM_WHEEL_RPM)
     if len(w) < 1:
         raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
-    case_settings(scn.body, quick, settings, sets, scn.mpm_scale)  # a bad setting is refused before any run
+    case_settings(scn, quick, settings, sets)  # a bad setting is refused before any run
     mpm_sweep_table(scn, w, quick, runs, settings_items(settings, sets), csv)
     typer.echo(f"MPM references: {csv}")
     return csv

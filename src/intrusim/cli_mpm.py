@@ -56,7 +56,7 @@ def _case(
     from intrusim.scenarios.mpm_settings import case_settings
 
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
-    s = case_settings(sc.body, quick, settings, sets or (), sc.mpm_scale)
+    s = case_settings(sc, quick, settings, sets or ())
     if threads is not None:
         if threads < 1:
             raise InputError(f"--threads must be >= 1, got {threads}")

@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
+from intrusim._checks import InputError
 from intrusim.scenarios.mpm_locomotion import MPMSettings, quick_settings
 
 runner = CliRunner()
@@ -73,7 +74,9 @@ def test_set_values_are_toml_or_bare_strings():
     assert parse_assignment("drop_escaped=true") == ("drop_escaped", True)
     assert parse_assignment("max_steps=1000") == ("max_steps", 1000)
     assert math.isnan(parse_assignment("t_max=nan")[1])
-    assert _case("cells.0=60").mpm.cells == (60, 25)
+    assert _case("cells=[60, 30]").mpm.cells == (60, 30)
+    with pytest.raises(InputError, match="cells must be square.*cell_size"):  # one side alone: refused, the fix named
+        _case("cells.0=60")
 
 
 @pytest.mark.parametrize("cmd", ["steady", "sweep"])

@@ -71,9 +71,60 @@ def test_toml_table_path_is_relative_to_the_toml(tmp_path, monkeypatch):
 )  # fmt: skip
 def test_toml_errors_name_the_field(tmp_path, text, field):
     p = tmp_path / "bad.toml"
-    p.write_text(text + "\n")
+    p.write_text('body = "wheel"\n' + text + "\n")
     with pytest.raises(InputError, match=field):
         load_scenario(p)
+
+
+def test_a_body_file_must_say_its_body(tmp_path):
+    p = tmp_path / "w.toml"
+    p.write_text("mass_z = 3.0\n")
+    with pytest.raises(InputError, match="body is required"):
+        load_scenario(p)
+
+
+MY_WHEEL = """body = "wheel"
+hub_diameter = 0.2
+lug_height = 0.015
+lug_width = 0.008
+lug_count = 12
+width = 0.12
+mass_x = 12.0
+mass_z = 5.0
+"""
+
+
+def test_a_body_file_is_named_after_itself_and_derives_its_length_scale(tmp_path):
+    p = tmp_path / "my_wheel.toml"
+    p.write_text(MY_WHEEL)
+    s = load_scenario(p)
+    assert s.name == "my_wheel"  # not the shipped "grousered_wheel"
+    assert s.length_scale == pytest.approx(0.2 + 2 * 0.015)  # the outer diameter, not Table S1's 0.212 m
+    assert s.radius == pytest.approx(0.115)
+    p.write_text(MY_WHEEL + "length_scale = 0.3\nname = 'w12'\n")  # given: kept
+    s = load_scenario(p)
+    assert s.name == "w12" and s.length_scale == 0.3
+    # a shipped body is not changed: its l is Table S1's outer diameter, the same number
+    assert get_scenario("wheel").length_scale == pytest.approx(0.212)
+
+
+def test_a_body_file_says_its_effective_body_and_the_defaults_it_took(tmp_path, capsys):
+    from intrusim.scenarios.locomotor import describe_body, effective_body
+
+    p = tmp_path / "lean.toml"
+    p.write_text('body = "wheel"\nlug_count = 12\nmass_z = 5.0\n')  # no hub_diameter: Table S1's, said so
+    s = load_scenario(p)
+    said = capsys.readouterr().err
+    assert "hub_diameter = 0.188 m *" in said and "taken from the Table S1 wheel" in said
+    assert "lug_count = 12," in said and "mass_z = 5 kg," in said  # given: no star
+    assert "length_scale = 0.212 m (= hub_diameter + 2 lug_height)" in said
+    load_scenario(p)
+    assert capsys.readouterr().err == ""  # said once per file
+    assert {"hub_diameter", "lug_height", "mass_x"} <= set(s.defaulted) and "lug_count" not in s.defaulted
+    body = effective_body(s)
+    assert body["name"] == "lean" and body["hub_diameter"] == 0.188 and body["units"]["mass_z"] == "kg"
+    assert "hub_diameter" in body["defaulted"]
+    assert describe_body(get_scenario("wheel")).count("*") == 0  # a shipped body took no defaults
 
 
 def test_unsupported_model_kind():

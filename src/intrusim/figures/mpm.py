@@ -26,7 +26,7 @@ from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
-from intrusim.scenarios.mpm_locomotion import MPMLocomotion, base_settings  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, body_settings  # noqa: E402
 from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
@@ -58,7 +58,7 @@ def check_figure_settings(figure: str, quick: bool, items: list[tuple[str, Any]]
 
     for name in FIGURE_SCENARIOS.get(figure, ("wheel",)):
         s = get_scenario(name)
-        apply_settings(base_settings(s.body, quick, s.mpm_scale), items)  # type: ignore[union-attr]
+        apply_settings(body_settings(s, quick, echo=False), items)  # type: ignore[arg-type]
 
 
 @contextmanager
@@ -78,7 +78,7 @@ def runs_root(runs: Path | None, quick: bool) -> Path:
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    base = base_settings(scenario.body, quick, scenario.mpm_scale)
+    base = body_settings(scenario, quick, echo=False)  # the commands say it once, before the runs
     settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
 

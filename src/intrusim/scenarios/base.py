@@ -46,7 +46,12 @@ class Config(BaseModel):
                 data = tomllib.load(f)
             except tomllib.TOMLDecodeError as err:
                 raise InputError(f"{p}: invalid TOML ({err})") from None
-        return cls.from_dict(_paths_relative_to(data, p.parent), source=str(p))
+        return cls.from_dict(cls._file_defaults(_paths_relative_to(data, p.parent), p), source=str(p))
+
+    @classmethod
+    def _file_defaults(cls, data: dict[str, Any], path: Path) -> dict[str, Any]:
+        """A hook for values a file's own name or place gives (a body's name: the file's stem)."""
+        return data
 
     def validated_copy(self, **update: Any) -> "Config":
         """A copy with ``update`` applied, validated as a new instance (field and model validators

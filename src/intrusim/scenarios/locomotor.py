@@ -25,10 +25,12 @@ parameters and the run control; the shipped defaults come from Table S1
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from intrusim._checks import InputError, finite, positive_int
 from intrusim.bodies import Drive, RigidBody
@@ -92,14 +94,51 @@ class LocomotorScenario(ModelKindsMixin):
         self.rft_shape()  # raises InputError (a ValueError) if the lugs overlap
         return self
 
+    # the keys a body file gives or takes from its body's shipped values (said when it is loaded)
+    _defaulted: tuple[str, ...] = PrivateAttr(default=())
+
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "config") -> "LocomotorScenario":
-        """Validate ``data`` merged onto the shipped defaults of ``data['body']`` (default wheel)."""
-        body = data.get("body", "wheel")
+        """Validate ``data`` merged onto the shipped defaults of ``data['body']`` ("wheel": the Table
+        S1 wheel, "runner": the four-flap runner; required). ``length_scale``, when not given, is the
+        body's outer diameter (``hub_diameter + 2 lug_height``). The :data:`BODY_KEYS` taken from the
+        shipped body are kept in :attr:`defaulted` (:func:`describe_body` says them)."""
+        if "body" not in data:
+            raise InputError(
+                f"{source}: body is required: 'wheel' or 'runner' (whose shipped values fill the keys the file does not give)"
+            )
+        body = data["body"]
         if body not in DEFAULTS:
             raise InputError(f"{source}: body must be one of {list(DEFAULTS)}, got {body!r}")
         base = DEFAULTS[body]().model_dump()
-        return super().from_dict(_deep_merge(base, data), source)  # type: ignore[return-value]
+        merged = _deep_merge(base, data)
+        if "length_scale" not in data:
+            hub, lug = merged.get("hub_diameter"), merged.get("lug_height")
+            if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (hub, lug)):
+                merged["length_scale"] = hub + 2 * lug  # a bad value is refused, naming its own key, below
+        out: LocomotorScenario = super().from_dict(merged, source)  # type: ignore[assignment]
+        out._defaulted = tuple(k for k in BODY_KEYS if k not in data)
+        return out
+
+    @classmethod
+    def _file_defaults(cls, data: dict[str, Any], path: Path) -> dict[str, Any]:
+        """A body file without ``name`` is named after the file (``my_wheel.toml``: my_wheel)."""
+        return data if "name" in data else {**data, "name": path.stem}
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "LocomotorScenario":
+        """A body file, its effective body said once on stderr (:func:`describe_body`)."""
+        out: LocomotorScenario = super().from_toml(path)  # type: ignore[assignment]
+        key = (str(Path(path).resolve()), Path(path).stat().st_mtime_ns)
+        if key not in _DESCRIBED:
+            _DESCRIBED.add(key)
+            print(describe_body(out, source=str(path)), file=sys.stderr)
+        return out
+
+    @property
+    def defaulted(self) -> tuple[str, ...]:
+        """The :data:`BODY_KEYS` this body took from its shipped body (its file did not give them)."""
+        return self._defaulted
 
     # --- geometry -------------------------------------------------------------------------
     def _shape(self, scale: float) -> Shape:
@@ -269,3 +308,37 @@ def four_flap_runner_scenario(lam: float = 4.0) -> LocomotorScenario:
 
 
 DEFAULTS = {"wheel": grousered_wheel_scenario, "runner": four_flap_runner_scenario}
+SHIPPED_BODY = {"wheel": "the Table S1 wheel", "runner": "the Table S1 four-flap runner"}
+
+# what makes a body: its geometry, inertias, gravity and the scale of its non-dimensional axes
+BODY_KEYS = ("hub_diameter", "lug_height", "lug_width", "lug_count", "width", "mass_x", "mass_z", "gravity",
+             "external_fx", "length_scale")  # fmt: skip
+_UNITS = {"hub_diameter": "m", "lug_height": "m", "lug_width": "m", "lug_count": "", "width": "m", "mass_x": "kg",
+          "mass_z": "kg", "gravity": "m/s^2", "external_fx": "N", "length_scale": "m"}  # fmt: skip
+_DESCRIBED: set[tuple[str, int]] = set()  # body files already described in this process
+
+
+def effective_body(scenario: LocomotorScenario) -> dict[str, Any]:
+    """The body as it is run: name, body, each of :data:`BODY_KEYS` (SI), the outer radius, and which
+    keys were taken from the shipped body (``defaulted``); for ``body.json`` beside results."""
+    out: dict[str, Any] = {"name": scenario.name, "body": scenario.body}
+    out.update({k: getattr(scenario, k) for k in BODY_KEYS})
+    out.update(radius=scenario.radius, units={k: u for k, u in _UNITS.items() if u}, defaulted=list(scenario.defaulted))
+    return out
+
+
+def describe_body(scenario: LocomotorScenario, source: str | None = None) -> str:
+    """One paragraph: the effective body, every value with its unit, those not given by the body's
+    file marked as taken from the shipped body."""
+    parts = []
+    for k in BODY_KEYS:
+        v, u = getattr(scenario, k), _UNITS[k]
+        derived = k == "length_scale" and k in scenario.defaulted
+        tag = " (= hub_diameter + 2 lug_height)" if derived else (" *" if k in scenario.defaulted else "")
+        parts.append(f"{k} = {v:g}{' ' + u if u else ''}{tag}")
+    head = f"{source}: " if source else ""
+    text = f"{head}{scenario.body} '{scenario.name}': " + ", ".join(parts)
+    taken = [k for k in scenario.defaulted if k != "length_scale"]
+    if taken:
+        text += f"; * not in the file: taken from {SHIPPED_BODY[scenario.body]}"
+    return text

@@ -141,6 +141,16 @@ class MPMSettings(Config):
         return arch
 
     @model_validator(mode="after")
+    def _square_cells(self) -> "MPMSettings":
+        hx, hz = self.domain[0] / self.cells[0], self.domain[1] / self.cells[1]
+        if not math.isclose(hx, hz, rel_tol=1e-9):
+            raise ValueError(
+                f"cells must be square: domain {list(self.domain)} m over cells {list(self.cells)} gives "
+                f"{hx:.4g} x {hz:.4g} m; set the box with --set domain=[Lx, Lz] then --set cell_size=H (which sets cells)"
+            )
+        return self
+
+    @model_validator(mode="after")
     def _treadmill_in_box(self) -> "MPMSettings":
         if self.treadmill is not None:
             trigger, target = self.treadmill
@@ -220,6 +230,56 @@ def base_settings(body: str, quick: bool, scale: float = 1.0) -> MPMSettings:
     return quick_settings(body, scale) if quick else paper_settings(body, scale)
 
 
+def body_settings(scenario: LocomotorScenario, quick: bool, echo: bool = True) -> MPMSettings:
+    """The base settings of ``scenario`` (:func:`base_settings` of its body at its ``mpm_scale``) with
+    the box grown, where needed, to hold this body (:func:`fit_box`); a body that fits (every
+    shipped one) gets the base unchanged. ``echo``: say on stderr what was grown."""
+    return fit_box(base_settings(scenario.body, quick, scenario.mpm_scale), scenario, echo)
+
+
+def _extent(scenario: LocomotorScenario) -> tuple[float, float]:
+    """(outer radius, depth of the lowest point below the centre) of the body's TRUE outline, m."""
+    outline = scenario.rft_shape().polygon
+    return float(np.max(np.linalg.norm(outline, axis=1))), -float(outline[:, 1].min())
+
+
+def start_height(settings: MPMSettings, below: float) -> float:
+    """z of the body's centre at the start: its lowest point (``below`` m under the centre) half a
+    cell above the bed, or ``start_depth`` into it."""
+    s = settings
+    return s.bed_depth + below + (0.5 * s.h if s.start_depth == 0.0 else -s.start_depth)
+
+
+def fit_box(settings: MPMSettings, scenario: LocomotorScenario, echo: bool = True) -> MPMSettings:
+    """``settings`` with the box grown in whole cells (the cell size kept) so that ``scenario``'s body
+    fits: its centre at least its radius and a cell from the left wall (``start_x`` moved, the bed
+    lengthened by as much), and room for the body plus one radius of headroom above the bed
+    (the domain's height). A body that fits gets ``settings`` itself."""
+    s, (radius, below) = settings, _extent(scenario)
+    h = s.h
+    domain, cells, start_x = list(s.domain), list(s.cells), s.start_x
+    if start_x - radius < h:
+        shift = math.ceil((radius + 2 * h - start_x) / h - 1e-9) * h
+        start_x += shift
+        cells[0] += round(shift / h)
+        domain[0] = cells[0] * h
+    top = start_height(s, below) + radius
+    if top > s.domain[1] - h:
+        cells[1] = math.ceil((top + max(radius, 2 * h)) / h - 1e-9)
+        domain[1] = cells[1] * h
+    if (tuple(domain), tuple(cells), start_x) == (s.domain, s.cells, s.start_x):
+        return s
+    out = s.validated_copy(domain=tuple(domain), cells=tuple(cells), start_x=start_x)
+    if echo:
+        print(
+            f"{scenario.name}: the MPM box grown to {domain[0]:.4g} x {domain[1]:.4g} m ({cells[0]} x {cells[1]} cells "
+            f"of {h * 1e3:.3g} mm, start_x {start_x:.4g} m) to hold the body (radius {radius:.4g} m); "
+            "--set domain=[Lx, Lz] --set cell_size=H sets it by hand",
+            file=sys.stderr,
+        )
+    return out
+
+
 @dataclass(frozen=True)
 class MPMSteadyState:
     """Window averages of one MPM locomotion run (SI) and its time series."""
@@ -284,10 +344,19 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
     if s.start_depth >= s.bed_depth:
         raise InputError(f"start_depth ({s.start_depth:g} m) must be less than the bed depth ({s.bed_depth:g} m)")
-    # lowest point half a cell above the bed, or start_depth below it
-    z0 = s.bed_depth - float(outline[:, 1].min()) + (0.5 * s.h if s.start_depth == 0.0 else -s.start_depth)
-    if s.start_x - radius < s.h or z0 + radius > s.domain[1] - s.h:
-        raise InputError(f"the body (radius {radius:.3g} m) does not fit in the domain at start_x={s.start_x}")
+    z0 = start_height(s, -float(outline[:, 1].min()))
+    if s.start_x - radius < s.h:
+        raise InputError(
+            f"the body (radius {radius:.3g} m) does not fit at start_x = {s.start_x:g} m: start_x must be at least "
+            f"its radius plus a cell ({radius + s.h:.4g} m; --set start_x=...)"
+        )
+    if z0 + radius > s.domain[1] - s.h:
+        need = z0 + radius + s.h
+        raise InputError(
+            f"the body (radius {radius:.3g} m) does not fit under the box's top: its height {s.domain[1]:g} m must be at "
+            f"least bed_depth + the body + a cell ({need:.4g} m; --set domain=[{s.domain[0]:g}, {need:.3g}] "
+            f"--set cell_size={s.h:g}, or let the box size itself: leave domain and cells unset)"
+        )
     return MPMConfig(
         domain=DomainConfig(size=s.domain, cells=s.cells, particles_per_cell=s.particles_per_cell),
         material=MaterialConfig(rho_c=s.rho_c, mu_s=s.mu_s, youngs_modulus=s.youngs_modulus, poisson_ratio=s.poisson_ratio,

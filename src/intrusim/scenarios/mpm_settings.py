@@ -198,14 +198,14 @@ def settings_items(settings_file: str | Path | None = None, sets: Iterable[str] 
 
 
 def case_settings(
-    body: str, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = (), scale: float = 1.0
+    scenario: Any, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = (), echo: bool = True
 ) -> Any:
-    """The MPMSettings of a command: the quick or paper base of ``body`` (for a body ``scale`` times
-    the size: the scenario's ``mpm_scale``), then the settings file, then each ``key=value`` of
-    ``sets`` in order."""
-    from intrusim.scenarios.mpm_locomotion import base_settings
+    """The MPMSettings of a command: the quick or paper base of ``scenario``'s body (at its
+    ``mpm_scale``, the box grown to hold the body: :func:`~intrusim.scenarios.mpm_locomotion.body_settings`),
+    then the settings file, then each ``key=value`` of ``sets`` in order."""
+    from intrusim.scenarios.mpm_locomotion import body_settings
 
-    return apply_settings(base_settings(body, quick, scale), settings_items(settings_file, sets))
+    return apply_settings(body_settings(scenario, quick, echo), settings_items(settings_file, sets))
 
 
 # ---------------------------------------------------------------- the record of a sweep's settings

@@ -1,0 +1,56 @@
+"""The MPM box sizes itself to the body; a box set by hand that cannot hold it is refused naming the limit."""
+
+import pytest
+
+from intrusim._checks import InputError
+from intrusim.scenarios import get_scenario, load_scenario
+from intrusim.scenarios.mpm_locomotion import base_settings, body_settings, mpm_config
+from intrusim.scenarios.mpm_settings import case_settings
+
+SHIPPED = ["wheel", "small-wheel", "runner", "wheel-10-grousers", "wheel-30-grousers", "wheel-tall-grousers"]
+
+
+@pytest.mark.parametrize("quick", [True, False])
+@pytest.mark.parametrize("name", SHIPPED)
+def test_a_shipped_body_keeps_its_box(name, quick):
+    s = get_scenario(name)
+    if name == "wheel-tall-grousers" and quick:  # its quick box is too low: grown (the reference set adds 6 cm)
+        assert body_settings(s, quick, echo=False).domain[1] > base_settings(s.body, quick, s.mpm_scale).domain[1]
+        return
+    assert body_settings(s, quick, echo=False) == base_settings(s.body, quick, s.mpm_scale)
+
+
+def _wheel(tmp_path, hub=0.2, lug=0.015):
+    p = tmp_path / "my_wheel.toml"
+    p.write_text(
+        f'body = "wheel"\nhub_diameter = {hub}\nlug_height = {lug}\nlug_width = 0.008\nlug_count = 12\n'
+        "width = 0.12\nmass_x = 12.0\nmass_z = 5.0\n"
+    )
+    return load_scenario(p)
+
+
+def test_a_wheel_too_tall_for_the_quick_box_gets_a_taller_box_of_the_same_cells(tmp_path, capsys):
+    sc = _wheel(tmp_path)  # radius 0.115 m: the quick box (0.5 m high, bed 0.25 m) cannot hold it
+    base = base_settings("wheel", True)
+    with pytest.raises(InputError, match=r"height 0.5 m must be at least .*--set domain="):
+        mpm_config(sc, base, 30.0)  # the limit named: the box's height, not start_x
+    capsys.readouterr()
+    s = body_settings(sc, True)
+    assert "box grown" in capsys.readouterr().err
+    assert s.h == pytest.approx(base.h) and s.domain[0] == base.domain[0] and s.domain[1] > base.domain[1]
+    assert s.domain[1] / s.cells[1] == pytest.approx(s.h)  # square cells
+    cfg = mpm_config(sc, s, 30.0)  # fits
+    top = cfg.intruders[0].z + sc.radius
+    assert top + sc.radius <= s.domain[1] + 1e-9  # a radius of headroom above the body
+    # --set over the grown box still applies, and a hand-made box that cannot hold the body is refused at the run
+    assert case_settings(sc, True, sets=["t_max=2.0"], echo=False).domain == s.domain
+
+
+def test_a_wide_body_moves_its_start_and_lengthens_the_bed(tmp_path):
+    sc = _wheel(tmp_path, hub=0.3, lug=0.02)  # radius 0.17 m > quick start_x 0.16 m
+    base, s = base_settings("wheel", True), body_settings(sc, True, echo=False)
+    assert s.start_x - sc.radius >= s.h
+    assert s.domain[0] - s.start_x == pytest.approx(base.domain[0] - base.start_x)  # the same run ahead
+    mpm_config(sc, s, 30.0)
+    with pytest.raises(InputError, match="start_x must be at least its radius plus a cell"):
+        mpm_config(sc, s.validated_copy(start_x=0.16), 30.0)
