@@ -86,7 +86,9 @@ LOCK = ".lock"  # in a run folder: held (flock) by the process writing the folde
 def run_lock(run_dir: Path | None):
     """Hold the run folder's lock for the block: a second run on the same folder is refused
     (InputError) instead of mixing its files with the first one's. On taking the lock, temporary
-    files a killed writer left (``*.tmp``) are removed. None: no folder, no lock."""
+    files a killed writer left (``*.tmp``) are removed. On release the lock file is removed, and the
+    folder too if the block left it empty (a run refused before writing anything leaves nothing).
+    None: no folder, no lock."""
     if run_dir is None:
         yield
         return
@@ -95,21 +97,37 @@ def run_lock(run_dir: Path | None):
     from intrusim.errors import InputError
 
     run_dir = Path(run_dir)
+    created = not run_dir.exists()
     run_dir.mkdir(parents=True, exist_ok=True)
-    fd = os.open(run_dir / LOCK, os.O_RDWR | os.O_CREAT, 0o666)
-    try:
+    path = run_dir / LOCK
+    while True:  # the lock file a releasing holder unlinks is not a lock: retry on the new one
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
+            os.close(fd)
             raise InputError(
                 f"{run_dir} is in use by another run (its lock {LOCK} is held); wait for it, "
                 "or choose another output folder"
             ) from None
+        try:
+            if os.fstat(fd).st_ino == os.stat(path).st_ino:
+                break
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+    try:
         for stale in list(run_dir.glob("*.tmp")) + list(run_dir.glob("*/*.tmp")):
             stale.unlink(missing_ok=True)
         yield
     finally:
-        os.close(fd)  # releases the lock
+        path.unlink(missing_ok=True)  # while still held: no one can take a lock on it in between
+        os.close(fd)
+        if created:
+            try:
+                run_dir.rmdir()  # only if empty
+            except OSError:
+                pass
 
 
 def safe_child(root: str | Path, name: str) -> Path:
