@@ -19,14 +19,16 @@ from pathlib import Path
 from typing import Sequence
 
 from intrusim._checks import InputError
+from intrusim.params import RPM
 
 DEFAULT_OMEGA_RPM = (10.0, 30.0, 60.0, 90.0)
-FIELDS = ("model", "omega_rpm", "velocity_m_s", "sinkage_mm", "slip", "wall_time_s")
+# SI, the unit in each name (docs/getting-started.md, "CSV files"); omega_rad_s < 0: rolling forward
+FIELDS = ("model", "omega_rpm", "omega_rad_s", "velocity_m_s", "sinkage_m", "slip", "wall_time_s")
 
 
 @dataclass
 class DemoResult:
-    """The demo's steady states (one row per model and omega) and the files written."""
+    """The demo's steady states (one row per model and omega, keys :data:`FIELDS`, SI) and the files written."""
 
     rows: list[dict[str, float | str]]
     csv_path: Path | None = None
@@ -40,7 +42,7 @@ class DemoResult:
         for r in self.rows:
             lines.append(
                 f"{r['model']:>6} | {r['omega_rpm']:9.0f} | {1e3 * float(r['velocity_m_s']):7.1f} | "
-                f"{float(r['sinkage_mm']):10.1f} | {float(r['slip']):5.2f} | {float(r['wall_time_s']):6.1f}"
+                f"{1e3 * float(r['sinkage_m']):10.1f} | {float(r['slip']):5.2f} | {float(r['wall_time_s']):6.1f}"
             )
         return "\n".join(lines)
 
@@ -103,8 +105,9 @@ def _row(model: str, omega_rpm: float, velocity: float, sinkage: float, slip: fl
     return {
         "model": model,
         "omega_rpm": omega_rpm,
+        "omega_rad_s": -omega_rpm * RPM,  # the package's sign: counter-clockwise, < 0 rolling forward
         "velocity_m_s": float(velocity),
-        "sinkage_mm": 1e3 * float(sinkage),
+        "sinkage_m": float(sinkage),
         "slip": float(slip),
         "wall_time_s": float(wall),
     }
@@ -134,7 +137,9 @@ def _plot(path: Path, rows: list[dict]) -> Path:
         ax_v.plot(
             w, [1e3 * r["velocity_m_s"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5
         )
-        ax_s.plot(w, [r["sinkage_mm"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5)
+        ax_s.plot(
+            w, [1e3 * r["sinkage_m"] for r in sel], marker, color=color, label=label, ms=8 if model == "mpm" else 5
+        )
     ax_v.set(xlabel="omega (RPM)", ylabel="forward speed (mm/s)", title="Table S1 wheel: speed")
     ax_s.set(xlabel="omega (RPM)", ylabel="sinkage (mm)", title="sinkage")
     ax_v.legend()

@@ -54,7 +54,7 @@ def test_a_quick_part_is_made_tabled_and_reused(tmp_path, monkeypatch):
     assert r.exit_code == 0, r.output
     rows = list(csv.DictReader((out / "wheel-10-grousers_mpm.csv").open()))
     assert [float(x["omega_rpm"]) for x in rows] == [30.0, 90.0] and all(x["ok"] == "True" for x in rows)
-    assert float(rows[1]["velocity"]) > float(rows[0]["velocity"]) > 0  # faster at the higher spin
+    assert float(rows[1]["velocity_m_s"]) > float(rows[0]["velocity_m_s"]) > 0  # faster at the higher spin
     assert (out / "wheel-10-grousers_mpm.settings.json").is_file()
     plates = list(csv.DictReader((out / "alpha_map.csv").open()))
     assert len(plates) == 1 and float(plates[0]["alpha_z"]) > 0  # pushed down: resisted upwards

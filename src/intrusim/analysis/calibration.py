@@ -13,8 +13,10 @@ Two fits:
 with the parameters calibrated on the large one: the transfer check of Fig S1).
 
 A reference is a :class:`~intrusim.analysis.sweep.SweepResult` of MPM steady states
-(:func:`load_reference` reads ``runs/mpm/*_mpm_sweep.csv``): columns ``velocity`` (m/s),
-``sinkage`` (m) and, for psi, ``surface_drop`` (m), at ``omega_rpm`` (RPM).
+(:func:`load_reference` reads ``runs/mpm/*_mpm_sweep.csv``): columns ``velocity_m_s``,
+``sinkage_m`` and, for psi, ``surface_drop_m``, at ``omega_rpm`` (RPM); a CSV written before the
+units were in the names (``velocity``, ``sinkage``, ``surface_drop``) reads the same. The records
+keep the short keys (``reference.column("velocity")``, m/s).
 
 The DRFT steady state is a piecewise-smooth function of the parameters (elements switch on and
 off as the body moves), so the Jacobian is taken by finite differences over a finite step
@@ -121,7 +123,9 @@ def fit_psi_affine(omega: Any, surface_drop: Any, radius: float, gravity: float 
 
 # --- the reference and the DRFT parameters ----------------------------------------------------
 def load_reference(path: Any, scenario: str = "", settled_only: bool = False) -> SweepResult:
-    """MPM steady states from a sweep CSV: the finished (ok) rows, sorted by omega.
+    """MPM steady states from a sweep CSV (:meth:`SweepResult.from_csv`: the columns with their unit
+    in the name, ``velocity_m_s``, or as older files have them, ``velocity``): the finished (ok) rows,
+    sorted by omega.
 
     settled_only: keep only the rows whose ``settled`` column is true (velocity drift between the
     window's halves under 5 %): a run still digging in has no steady state to fit.

@@ -25,6 +25,29 @@ from intrusim.errors import PROGRAMMING_ERRORS
 TEXT_FIELDS = ("error", "retried")  # the CSV columns read back as text
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
+# The CSV column of a record key, SI with the unit in its name (docs/getting-started.md, "CSV files"),
+# and the factor from the record's value to the column's: the records keep |omega| (rad/s, forward
+# rolling), the file omega_rad_s the package's sign (counter-clockwise: < 0 rolling forward).
+# A key not named here (omega_rpm, ok, slip, drift, settled, steps, error, retried, a caller's own
+# column) is written under its own name.
+CSV_COLUMNS: dict[str, tuple[str, float]] = {
+    "omega": ("omega_rad_s", -1.0),
+    "velocity": ("velocity_m_s", 1.0),
+    "sinkage": ("sinkage_m", 1.0),
+    "velocity_std": ("velocity_std_m_s", 1.0),
+    "sinkage_std": ("sinkage_std_m", 1.0),
+    "velocity_z": ("velocity_z_m_s", 1.0),
+    "surface_drop": ("surface_drop_m", 1.0),
+    "surface_drop_std": ("surface_drop_std_m", 1.0),
+    "wall_time": ("wall_time_s", 1.0),
+    "window_start": ("window_start_s", 1.0),
+    "window_end": ("window_end_s", 1.0),
+}
+RECORD_KEYS: dict[str, tuple[str, float]] = {col: (key, f) for key, (col, f) in CSV_COLUMNS.items()}
+# the standard columns of a sweep CSV, in order (then any other, by name)
+CSV_FIELDS = ("omega_rpm", "omega_rad_s", "ok", "velocity_m_s", "sinkage_m", "slip", "velocity_std_m_s",
+              "sinkage_std_m", "drift", "settled", "error")  # fmt: skip
+
 MAX_POINTS = 10_000  # omegas of one sweep
 
 
@@ -81,7 +104,8 @@ class SweepResult:
     """Records of an omega sweep, in the order of the requested omegas.
 
     ``records[i]`` has keys :data:`FIELDS` (SI: velocity m/s, sinkage m, slip 1); failed points
-    have ok = False, NaN numbers and an ``error`` message.
+    have ok = False, NaN numbers and an ``error`` message. In a CSV (:meth:`to_csv`) each column
+    names its unit: ``velocity_m_s``, ``sinkage_m``, ``omega_rad_s`` (< 0 rolling forward) ...
     """
 
     scenario: str
@@ -91,7 +115,10 @@ class SweepResult:
     meta: dict[str, Any] = field(default_factory=dict)
 
     def column(self, name: str) -> np.ndarray:
-        return np.array([r.get(name, math.nan) if r["ok"] else math.nan for r in self.records], float)
+        """The records' ``name`` (a record key, or its CSV column: ``velocity_m_s`` is ``velocity``),
+        NaN where a point failed or has none."""
+        key, factor = RECORD_KEYS.get(name, (name, 1.0))
+        return factor * np.array([r.get(key, math.nan) if r["ok"] else math.nan for r in self.records], float)
 
     @property
     def omega_rpm(self) -> np.ndarray:
@@ -119,30 +146,32 @@ class SweepResult:
         return "\n".join(lines)
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write the records: the standard FIELDS first, then any model-specific ones (e.g. MPM's
-        rear surface drop and wall time)."""
+        """Write the records: the standard :data:`CSV_FIELDS` first, then any model-specific ones (e.g.
+        MPM's rear surface drop and wall time), each in SI with its unit in its name (:data:`CSV_COLUMNS`)."""
         import io
 
         from intrusim.mpm.io import atomic_write_bytes
 
         p = Path(path)
-        extra = sorted({k for r in self.records for k in r} - set(FIELDS))
-        names = list(FIELDS) + extra
+        rows = [_csv_row(r) for r in self.records]
+        names = list(CSV_FIELDS) + sorted({k for r in rows for k in r} - set(CSV_FIELDS))
         buf = io.StringIO(newline="")
         w = csv.DictWriter(buf, fieldnames=names, extrasaction="ignore")
         w.writeheader()
-        for r in self.records:
+        for r in rows:
             w.writerow({k: r.get(k, "") for k in names})
         atomic_write_bytes(p, buf.getvalue().encode())  # a killed sweep leaves the old CSV or the new one
         return p
 
     @classmethod
     def from_csv(cls, path: str | Path, scenario: str = "", kind: str = "") -> "SweepResult":
-        """Read records written by :meth:`to_csv` (e.g. ``runs/mpm/*_mpm_sweep.csv``).
+        """Read records written by :meth:`to_csv` (e.g. ``runs/mpm/*_mpm_sweep.csv``), with the unit in
+        each column's name or (files written before: ``velocity``, ``sinkage``, ``omega`` > 0 ...) without.
 
-        ``ok`` and ``settled`` become booleans, ``error`` and ``retried`` stay text, every other column a float
-        (an empty cell: NaN). Rows keep the file's order. Raises InputError if the file is
-        missing or has no ``omega_rpm`` / ``ok`` column.
+        The records have the keys they always had (``velocity`` m/s, ``sinkage`` m, ``omega`` = |omega|
+        rad/s: :data:`CSV_COLUMNS`). ``ok`` and ``settled`` become booleans, ``error`` and ``retried`` stay
+        text, every other column a float (an empty cell: NaN). Rows keep the file's order. Raises
+        InputError if the file is missing or has no ``omega_rpm`` / ``ok`` column.
         """
         p = Path(path)
         if not p.is_file():
@@ -155,14 +184,24 @@ class SweepResult:
         for row in rows:
             rec: dict[str, Any] = {}
             for k, v in row.items():
-                if k in ("ok", "settled"):
-                    rec[k] = v.strip().lower() in ("true", "1", "1.0")
-                elif k in TEXT_FIELDS:
-                    rec[k] = v
+                key, factor = RECORD_KEYS.get(k, (k, 1.0))
+                if key in ("ok", "settled"):
+                    rec[key] = v.strip().lower() in ("true", "1", "1.0")
+                elif key in TEXT_FIELDS:
+                    rec[key] = v
                 else:
-                    rec[k] = float(v) if v.strip() else math.nan
+                    rec[key] = factor * float(v) if v.strip() else math.nan
             records.append(rec)
         return cls(scenario, kind, None, records, meta={"source": str(p)})
+
+
+def _csv_row(rec: dict[str, Any]) -> dict[str, Any]:
+    """A record under its CSV column names, in SI (:data:`CSV_COLUMNS`)."""
+    out: dict[str, Any] = {}
+    for k, v in rec.items():
+        col, factor = CSV_COLUMNS.get(k, (k, 1.0))
+        out[col] = factor * v if factor != 1.0 and isinstance(v, (int, float)) else v
+    return out
 
 
 def dask_map(

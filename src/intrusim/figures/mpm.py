@@ -321,7 +321,7 @@ def fig5d(
         g = np.clip(d["gdot_p"], 0.1, None)
         sc = _field_panel(ax, d, g, LogNorm(0.1, 100), "inferno", 0.3)
         ax.set_title(f"{rpm:g} RPM, t = {float(d['t']):.2f} s", fontsize=9)
-        rows.append({"omega_rpm": rpm, "t_s": float(d["t"]), "max_gdot_p": float(d["gdot_p"].max()),
+        rows.append({"omega_rpm": rpm, "t_s": float(d["t"]), "max_gdot_p_per_s": float(d["gdot_p"].max()),
                      "sheared_area_m2_gdot_gt_1": float(np.sum(d["gdot_p"] > 1.0)) * (np.ptp(d["x"], axis=0).prod() / len(d["x"]))})  # fmt: skip
     fig.colorbar(sc, ax=axes, label="equivalent plastic strain rate (1/s)", fraction=0.02)
     return save_figure(fig, out, "fig5d", rows)

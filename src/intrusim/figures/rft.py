@@ -164,7 +164,7 @@ def fig6a(
             )
         for j, v in enumerate(s.speeds):
             rows.append({"depth_m": d, "speed_m_s": v, "force_N_per_m": force[i, j], "fit_K_N_per_m": K, "fit_lambda": lam,
-                         "paper_K_N_per_m": s.paper_K, "paper_lambda": s.paper_lambda, "rho": s.force_model.rho,
+                         "paper_K_N_per_m": s.paper_K, "paper_lambda": s.paper_lambda, "rho_kg_m3": s.force_model.rho,
                          "area_m2": s.area})  # fmt: skip
     ax.set(xlabel="drag speed v (m/s)", ylabel="drag force per metre width (N/m)",
            title=f"Fig 6A: fit K = {K:.0f} N/m, lambda = {lam:.2f} (paper MPM: 580, 1.1; thin lines)")  # fmt: skip
