@@ -1,7 +1,7 @@
 """Benchmark: the particle arrays' layout, one element per point against blocks of 8 points (docs/performance.md).
 
-The vectorised G2P (``backend.simd_lanes``) computes 8 points per loop iteration. With one array
-element per point (the former layout: ``x`` an ndarray of 2-vectors, ``sigma``
+The vectorised G2P (the default; ``BenchmarkSwitches.simd_lanes``) computes 8 points per loop
+iteration. With one array element per point (the former layout: ``x`` an ndarray of 2-vectors, ``sigma``
 of 2 x 2 matrices, ...) each lane of each component is its own scalar load and vector insert, and
 its own extract and store. With the points in blocks of 8 per component (``particles.py``: an
 ndarray of shape (blocks, components) whose element is an 8-vector) a block's component is one

@@ -5,8 +5,8 @@ FLIP with a PIC share per step that falls with dt; Drucker-Prager with separatio
 
 * ms per step and particle-updates per second of the Taichi solver (``Solver.step``),
 * the same step in vectorised NumPy (``mpm.reference_numpy.numpy_step``, float64, best of 4) and the ratio,
-* on the CPU, the same step with G2P and P2G one point per loop iteration (``backend.simd_lanes =
-  False``) against the default kernels vectorised over 8 points, in alternate rounds,
+* on the CPU, the same step with G2P and P2G one point per loop iteration (``BenchmarkSwitches(simd_lanes =
+  False)``, intrusim.mpm.backend) against the default kernels vectorised over 8 points, in alternate rounds,
 * the same step with the kernels called one by one instead of as one compiled graph, and with
   P2G by atomic adds into one grid copy (a GPU's P2G), in 64-bit fixed point (reproducible, the
   default) and in float (rounding in the threads' order),
@@ -24,7 +24,7 @@ FLIP with a PIC share per step that falls with dt; Drucker-Prager with separatio
 * optionally (``--wheel``) the wall time of 1 s of physical time of the paper's wheel run
   (1 m x 1 m bed, 200 x 200 grid, 2 x 2 points per cell, coupled wheel at 60 RPM), extrapolated
   from a short run, and the same step with the wheel's dynamics on the host (its impulse read
-  back every step, ``backend.device_bodies = False``) instead of on the device.
+  back every step, ``BenchmarkSwitches(device_bodies=False)``) instead of on the device.
 
 Each thread count runs in its own process (Taichi is initialised once per process):
 
@@ -160,6 +160,9 @@ def bed_solver(
     simd_lanes: bool = True,
     transfer: dict | None = None,
 ):
+    """The solver of a resting bed; ``step_graph`` and ``simd_lanes``: the benchmarks' switches of the
+    step's code paths (``intrusim.mpm.backend.BenchmarkSwitches``, not settings of a run)."""
+    from intrusim.mpm.backend import BenchmarkSwitches
     from intrusim.mpm.config import BedConfig, DomainConfig, MPMConfig, Rectangle
     from intrusim.mpm.solver import Solver
 
@@ -170,13 +173,11 @@ def bed_solver(
         transfer=transfer or {},
         backend=dict(
             arch=arch,
-            step_graph=step_graph,
             deterministic_sums=deterministic_sums,
-            simd_lanes=simd_lanes,
             **({} if p2g_chunks is None else {"p2g_chunks": p2g_chunks}),
         ),
     )
-    return Solver(cfg)
+    return Solver(cfg, switches=BenchmarkSwitches(step_graph=step_graph, simd_lanes=simd_lanes))
 
 
 def time_steps(solver, min_time: float = 2.0) -> float:
@@ -257,6 +258,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
     """Wall seconds per physical second of the paper's wheel run (coupled, 60 RPM), with the body's
     dynamics on the device (the default) and on the host (its impulse read back every step): the two
     solvers run the same state in alternate rounds, so the machine's drift falls on both; best round."""
+    from intrusim.mpm.backend import BenchmarkSwitches
     from intrusim.mpm.solver import Solver
     from intrusim.scenarios import grousered_wheel_scenario
     from intrusim.scenarios.mpm_locomotion import mpm_config, paper_settings
@@ -265,8 +267,7 @@ def wheel_seconds_per_physical_second(arch: str, physical: float = 0.02, rounds:
     solvers = {}
     for on_device in (True, False):
         cfg = mpm_config(grousered_wheel_scenario(), s, 60.0, None)
-        cfg.backend.device_bodies = on_device
-        solvers[on_device] = Solver(cfg)
+        solvers[on_device] = Solver(cfg, switches=BenchmarkSwitches(device_bodies=on_device))
     best = alternate_rounds(solvers, max(1, int(round(physical / rounds / solvers[True].dt))), rounds)
     solver = solvers[True]
     return {
@@ -500,7 +501,7 @@ def report(results: list[dict], arch: str) -> None:
             if "lanes_pair_ms_per_step" in c:
                 lanes, scalar = c["lanes_pair_ms_per_step"]
                 print(
-                    f"{r['threads']} threads, {label}: G2P and P2G one point per loop iteration (backend.simd_lanes = false) "
+                    f"{r['threads']} threads, {label}: G2P and P2G one point per loop iteration (simd_lanes = False) "
                     f"{scalar:.2f} ms/step vs {lanes:.2f} vectorised over 8 points (alternate rounds, best of 5): "
                     f"{scalar / lanes:.2f}x"
                 )
@@ -509,7 +510,7 @@ def report(results: list[dict], arch: str) -> None:
             if "direct_launch_ms_per_step" not in c:
                 continue
             print(
-                f"{r['threads']} threads, {label}: kernels called one by one (backend.step_graph = False) "
+                f"{r['threads']} threads, {label}: kernels called one by one (step_graph = False) "
                 f"{c['direct_launch_ms_per_step']:.2f} ms/step vs {c['ms_per_step']:.2f} as one graph"
             )
     for r in results:

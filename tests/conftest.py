@@ -54,6 +54,7 @@ SLOW = (
     "tests/unit/test_mpm_linear_shape.py::test_linear_g2p_gives_an_affine_fields_gradient_exactly_inside_the_patch",
     "tests/unit/test_mpm_snapshots.py::test_bodies_are_written_at_their_pose",
     "tests/unit/test_mpm_snapshots.py::test_particle_snapshot_has_the_fields",
+    "tests/unit/test_mpm_switches.py::test_the_command_line_goes_on_in_a_folder_written_before_the_change",
     "tests/unit/test_mpm_window.py::test_the_fluidity_warm_start_moves_with_the_grains",
     "tests/unit/test_sweep.py::test_dask_matches_serial",
     "tests/validation/test_locomotion_paper.py::test_quasistatic_rft_round_wheel_v_proportional_to_omega",

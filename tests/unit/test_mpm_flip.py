@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
+from intrusim.mpm.backend import BenchmarkSwitches
 from intrusim.mpm.config import BackendConfig, BedConfig, DomainConfig, MPMConfig, Rectangle, TransferConfig
 from intrusim.mpm.solver import Solver
 from intrusim.mpm.transfer import p2g_kernel
@@ -14,8 +15,8 @@ def _loose_patch(flip: float | None, gravity: float = 0.0, chunks: int = 16, lan
     cfg = MPMConfig(domain=DomainConfig(size=(0.2, 0.2), cells=(20, 20)),
                     bed=BedConfig(rectangles=[Rectangle(x0=0.04, z0=0.04, x1=0.16, z1=0.12)], density_ratio=0.8),
                     gravity=(0.0, gravity), transfer=TransferConfig(flip=flip),
-                    backend=BackendConfig(p2g_chunks=chunks, simd_lanes=lanes))  # fmt: skip
-    s = Solver(cfg)
+                    backend=BackendConfig(p2g_chunks=chunks))  # fmt: skip
+    s = Solver(cfg, switches=BenchmarkSwitches(simd_lanes=lanes))
     v0 = np.random.default_rng(3).normal(0.0, 0.01, (s.particles.n, 2))
     s.particles.load({"v": v0})
     return s

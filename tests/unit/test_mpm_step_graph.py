@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from intrusim.mpm.backend import BenchmarkSwitches
 from intrusim.mpm.config import (
     BedConfig,
     CoupledMotion,
@@ -17,7 +18,7 @@ from intrusim.mpm.step_graph import Launch, StepGraph
 from intrusim.mpm.transfer import p2g_args, p2g_kernel
 
 
-def _config(step_graph: bool) -> MPMConfig:
+def _config() -> MPMConfig:
     """A bed with a gate removed after a few steps and a coupled, spinning square pushed into it."""
     square = [(-0.02, -0.02), (0.02, -0.02), (0.02, 0.02), (-0.02, 0.02)]
     return MPMConfig(
@@ -35,14 +36,13 @@ def _config(step_graph: bool) -> MPMConfig:
                 motion=CoupledMotion(omega=-20.0, ramp_time=1e-3, mass_x=0.5, mass_z=0.5, external_force=(0.2, -3.0)),
             )
         ],
-        backend=dict(step_graph=step_graph),
     )
 
 
 def test_graph_step_equals_direct_calls():
     runs = []
     for step_graph in (True, False):
-        s = Solver(_config(step_graph))
+        s = Solver(_config(), switches=BenchmarkSwitches(step_graph=step_graph))
         n = int(round(1e-3 / s.dt))  # past the gate's removal: the graph is rebuilt without it
         for _ in range(n):
             s.step()
@@ -58,7 +58,7 @@ def test_graph_step_equals_direct_calls():
 
 
 def test_graph_refuses_a_wrong_argument_count():
-    s = Solver(_config(True))
+    s = Solver(_config())
     args = p2g_args(s.particles, s.grid, s.dt)
     with pytest.raises(TypeError, match="arguments"):
         StepGraph([Launch(p2g_kernel(True), args[:-1])], {})

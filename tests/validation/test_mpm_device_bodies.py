@@ -1,4 +1,4 @@
-"""A coupled body's dynamics on the device (``backend.device_bodies``) against the host's.
+"""A coupled body's dynamics on the device (``BenchmarkSwitches.device_bodies``, the default) against the host's.
 
 With the dynamics in a kernel at the end of the step, the pose never leaves the device between
 steps (on a GPU the host would otherwise wait for the device every step to read the impulse
@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
+from intrusim.mpm.backend import BenchmarkSwitches
 from intrusim.mpm.config import (
     BedConfig,
     CoupledMotion,
@@ -30,8 +31,7 @@ BODY = ("x", "z", "theta", "vx", "vz", "omega")
 def _wheel(device_bodies: bool, contact: str = "nodes") -> Solver:
     """The coarse wheel at 60 RPM (2,500 points, ramp 0.15 s)."""
     cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel").validated_copy(contact=contact), 60.0, None)
-    cfg.backend.device_bodies = device_bodies
-    return Solver(cfg)
+    return Solver(cfg, switches=BenchmarkSwitches(device_bodies=device_bodies))
 
 
 def _body(solver: Solver) -> np.ndarray:
@@ -87,7 +87,7 @@ def test_a_state_changed_between_steps_reaches_the_device():
     assert host[3] > 0.3  # the push is still felt after 50 steps
 
 
-def _three_bodies(device_bodies: bool) -> MPMConfig:
+def _three_bodies() -> MPMConfig:
     """Two coupled squares (different masses, pushes and spins) and a prescribed one in one bed."""
     square = [(-0.02, -0.02), (0.02, -0.02), (0.02, 0.02), (-0.02, 0.02)]
     coupled = [
@@ -101,14 +101,13 @@ def _three_bodies(device_bodies: bool) -> MPMConfig:
         bed=BedConfig(rectangles=[Rectangle(x0=0.0, z0=0.0, x1=0.3, z1=0.08)]),
         intruders=bodies,
         contact="surface",  # the motions below were measured with it; the wheel above has both contacts
-        backend=dict(device_bodies=device_bodies),
     )
 
 
 def test_each_of_several_bodies_keeps_its_own_dynamics():
     runs = []
     for device_bodies in (False, True):
-        s = Solver(_three_bodies(device_bodies))
+        s = Solver(_three_bodies(), switches=BenchmarkSwitches(device_bodies=device_bodies))
         assert [b.on_device for b in s.intruders] == [device_bodies, device_bodies, False]  # prescribed: host
         for _ in range(int(round(0.02 / s.dt))):
             s.step()

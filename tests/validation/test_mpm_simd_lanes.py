@@ -1,4 +1,4 @@
-"""The CPU's vectorised G2P (``backend.simd_lanes``: 8 points per loop iteration, SIMD arithmetic)
+"""The CPU's vectorised G2P (``BenchmarkSwitches.simd_lanes``, the default: 8 points per loop iteration, SIMD arithmetic)
 against the one-point-per-iteration kernel (the reference, and a GPU's kernel).
 
 The two compute the same sums in the same order; they may differ in the last bit (the vector code
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from intrusim.mpm.backend import ensure_initialized, unscalarized
+from intrusim.mpm.backend import BenchmarkSwitches, ensure_initialized, unscalarized
 from intrusim.mpm.config import MaterialConfig, MuIConfig
 from intrusim.mpm.constitutive import DruckerPragerSeparation, material_from_config
 from intrusim.mpm.fluidity import SOURCE_CHUNKS, fluidity_relax_kernel, fluidity_sources_kernel
@@ -289,12 +289,10 @@ def test_unscalarized_restores_the_config_on_error():
     assert cfg.real_matrix_scalarize
 
 
-def _wheel(**backend) -> Solver:
+def _wheel(**switches) -> Solver:
     cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel"), 60.0, None)
     cfg.contact = "band"  # the bound of test_wheel_run_follows_the_one_point_run was measured with the band
-    for key, value in backend.items():
-        setattr(cfg.backend, key, value)
-    return Solver(cfg)
+    return Solver(cfg, switches=BenchmarkSwitches(**switches))
 
 
 def _run(solver: Solver, steps: int) -> tuple[np.ndarray, np.ndarray]:
@@ -306,16 +304,15 @@ def _run(solver: Solver, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 _COMPILE_THE_STEP = """
 import sys, taichi as ti
-from intrusim.mpm.backend import ensure_initialized
+from intrusim.mpm.backend import BenchmarkSwitches, ensure_initialized
 ensure_initialized("cpu", "f32", 1)
 ti.lang.impl.current_cfg().print_kernel_llvm_ir_optimized = True  # each kernel's IR as it compiles, here
 from intrusim.mpm.solver import Solver
 from intrusim.scenarios import grousered_wheel_scenario
 from intrusim.scenarios.mpm_locomotion import mpm_config, quick_settings
 cfg = mpm_config(grousered_wheel_scenario(), quick_settings("wheel"), 60.0, None)
-cfg.backend.step_graph = sys.argv[1] == "graph"
 cfg.transfer.flip = None if sys.argv[2] == "default" else 0.0
-solver = Solver(cfg)
+solver = Solver(cfg, switches=BenchmarkSwitches(step_graph=sys.argv[1] == "graph"))
 for _ in range(3):
     solver.step()
 assert ti.lang.impl.current_cfg().real_matrix_scalarize  # switched back after compiling

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 import warnings
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, fields
 
 import taichi as ti
 
@@ -45,6 +45,44 @@ class BackendInfo:
     def np_real(self) -> str:
         return "float64" if self.precision == "f64" else "float32"
 
+
+@dataclass(frozen=True)
+class BenchmarkSwitches:
+    """Internal: the other code paths of the MPM step, kept as references for the benchmarks and the
+    tests that compare them with the default (``Solver(cfg, switches=BenchmarkSwitches(...))``).
+
+    Not settings of a run: they are no fields of :class:`~intrusim.mpm.config.MPMConfig` (a run's
+    TOML that names one is refused, :data:`~intrusim.mpm.config.REMOVED_BACKEND_KEYS`). A run folder
+    or checkpoint written while they were ``backend`` settings still loads: there they are read as the
+    switches of its run (:func:`intrusim.mpm.io.split_switches`), and a run made with switches other
+    than the defaults records them beside its configuration (``"switches"``), so it resumes on them.
+
+    step_graph : the kernels of a step launched as one compiled Taichi graph (arguments bound in
+        C++: ~0.1 ms instead of ~0.7 ms of Python per step); False: one call per kernel (the same
+        numbers bit for bit, ``test_mpm_step_graph.py``).
+    device_bodies : a coupled body's dynamics (prescribed omega, free x and z) in a kernel at the end
+        of each step, its pose kept on the device: no read-back of the step's impulse (on a GPU, a
+        wait for the device every step); False: read back and advanced on the host (the reference).
+    simd_lanes : CPU: the G2P kernel (velocity, position, density, stress), the chunked P2G and the
+        nonlocal fluidity's sources and relaxation compute 8 points at once as vectors (SIMD);
+        False: one point per loop iteration (the reference; a GPU's always, and float64's).
+    """
+
+    step_graph: bool = True
+    device_bodies: bool = True
+    simd_lanes: bool = True
+
+    def __post_init__(self):
+        for f in fields(self):
+            if not isinstance(getattr(self, f.name), bool):
+                raise TypeError(f"BenchmarkSwitches.{f.name} must be True or False, got {getattr(self, f.name)!r}")
+
+    def changed(self) -> dict[str, bool]:
+        """The switches not at their default, by name ({} for the defaults)."""
+        return {k: v for k, v in asdict(self).items() if v != getattr(DEFAULT_SWITCHES, k)}
+
+
+DEFAULT_SWITCHES = BenchmarkSwitches()  # the solver's path: every run's, unless a benchmark or test asks otherwise
 
 _INFO: BackendInfo | None = None
 

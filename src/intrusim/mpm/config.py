@@ -326,6 +326,12 @@ class OutputConfig(_Model):
     )
 
 
+# settings of BackendConfig until they became internal switches of the benchmarks and tests
+# (intrusim.mpm.backend.BenchmarkSwitches): refused in a run's configuration; in a saved one (a run
+# folder's config.json, a checkpoint) read as the switches of that run (intrusim.mpm.io.split_switches)
+REMOVED_BACKEND_KEYS: tuple[str, ...] = ("step_graph", "device_bodies", "simd_lanes")
+
+
 class BackendConfig(_Model):
     arch: Literal["cpu", "cuda", "vulkan", "metal", "gpu"] = "cpu"
     precision: Precision = "f32"
@@ -338,11 +344,6 @@ class BackendConfig(_Model):
         "order independent of the thread count; more chunks than threads balance the load, and "
         "the grid update sums each copy only over its chunk's box); GPU uses atomics instead",
     )
-    step_graph: bool = Field(
-        True,
-        description="launch the kernels of a step as one compiled Taichi graph (arguments bound "
-        "in C++: ~0.1 ms instead of ~0.7 ms of Python per step); False: one call per kernel",
-    )
     deterministic_sums: bool = Field(
         True,
         description="where several threads add into one target (a GPU's P2G, body impulses and "
@@ -351,18 +352,18 @@ class BackendConfig(_Model):
         "atomic adds (their rounding follows the threads' order). Vulkan and Metal: float atomics "
         "always (64-bit integer atomics are not portable). The CPU's chunked P2G sums in a fixed order either way",
     )
-    device_bodies: bool = Field(
-        True,
-        description="a coupled body's dynamics (prescribed omega, free x and z) in a kernel at the end "
-        "of each step, its pose kept on the device: no read-back of the step's impulse (on a GPU, "
-        "a wait for the device every step); False: read back and advanced on the host (the reference)",
-    )
-    simd_lanes: bool = Field(
-        True,
-        description="CPU: the G2P kernel (velocity, position, density, stress), the chunked P2G and "
-        "the nonlocal fluidity's sources and relaxation compute 8 points at once as vectors (SIMD); "
-        "False: one point per loop iteration (the reference; a GPU's always, and float64's)",
-    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_removed_keys(cls, data):
+        given = [k for k in REMOVED_BACKEND_KEYS if isinstance(data, dict) and k in data]
+        if given:
+            raise ValueError(
+                f"{' and '.join(given)} {'is' if len(given) == 1 else 'are'} no longer a setting of a run "
+                "(every run takes the default path; the benchmarks switch it with "
+                "intrusim.mpm.backend.BenchmarkSwitches): remove it"
+            )
+        return data
 
 
 class MPMConfig(_Model):

@@ -8,10 +8,16 @@ import os
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .config import MPMConfig
+from .config import REMOVED_BACKEND_KEYS, MPMConfig
+
+if TYPE_CHECKING:
+    from .backend import BenchmarkSwitches
+
+SWITCHES_KEY = "switches"  # config.json and checkpoint meta: a run's BenchmarkSwitches other than the defaults
 
 
 def package_version() -> str:
@@ -23,10 +29,15 @@ def package_version() -> str:
         return "unknown"
 
 
-def write_resolved_config(run_dir: Path, cfg: MPMConfig, extra: dict | None = None) -> Path:
-    """config.json with the validated config, the package version and derived numbers."""
+def write_resolved_config(
+    run_dir: Path, cfg: MPMConfig, extra: dict | None = None, switches: "BenchmarkSwitches | None" = None
+) -> Path:
+    """config.json with the validated config, the package version and derived numbers; the run's
+    ``switches`` where they are not the defaults (``"switches"``, read back by :func:`split_switches`)."""
     run_dir.mkdir(parents=True, exist_ok=True)
     payload = {"intrusim_version": package_version(), "config": cfg.model_dump(mode="json")}
+    if switches is not None and switches.changed():
+        payload[SWITCHES_KEY] = switches.changed()
     if extra:
         payload["derived"] = extra
     path = run_dir / "config.json"
@@ -150,34 +161,88 @@ def checkpoint_config(cfg: MPMConfig) -> dict:
     return cfg.model_dump(mode="json")
 
 
-def checkpoint_mismatch(saved: dict | None, cfg: MPMConfig) -> list[str]:
+def split_switches(
+    config: dict | None, recorded: dict | None = None, where: str = "saved configuration"
+) -> tuple[dict | None, "BenchmarkSwitches"]:
+    """A saved configuration (a run folder's config.json ``"config"``, a checkpoint's) without the
+    keys that were settings of its ``backend`` table until they became internal switches
+    (:data:`~intrusim.mpm.config.REMOVED_BACKEND_KEYS`), and the
+    :class:`~intrusim.mpm.backend.BenchmarkSwitches` of its run: those keys, then ``recorded`` (the
+    ``"switches"`` entry written beside the configuration of a run made with other switches than the
+    defaults), the defaults for the rest. A folder written before the change thus loads as it was
+    made: at the defaults (every run's, unless a benchmark changed them) as the same configuration
+    as a run of today. A value that is no switch's true or false is an InputError naming it and ``where``."""
+    from intrusim.errors import InputError
+
+    from .backend import BenchmarkSwitches
+
+    values: dict = {}
+    backend = config.get("backend") if isinstance(config, dict) else None
+    if isinstance(backend, dict) and any(k in backend for k in REMOVED_BACKEND_KEYS):
+        backend = dict(backend)
+        values = {k: backend.pop(k) for k in REMOVED_BACKEND_KEYS if k in backend}
+        config = {**config, "backend": backend}
+    if recorded is not None and not isinstance(recorded, dict):
+        raise InputError(f"{where}: {SWITCHES_KEY} must be a table of switches, got {recorded!r}")
+    for prefix, table in (("backend.", values), (f"{SWITCHES_KEY}.", recorded or {})):
+        for key, value in table.items():
+            if key not in REMOVED_BACKEND_KEYS or not isinstance(value, bool):
+                raise InputError(
+                    f"{where}: {prefix}{key} = {value!r} is not one of the switches "
+                    f"{', '.join(REMOVED_BACKEND_KEYS)} set to true or false"
+                )
+    return config, BenchmarkSwitches(**{**values, **(recorded or {})})
+
+
+def switch_differences(saved: "BenchmarkSwitches", switches: "BenchmarkSwitches | None") -> list[str]:
+    """The switches (``backend.NAME``, as they were written when they were settings) at which a saved
+    run's differ from ``switches`` (None: the defaults)."""
+    from .backend import DEFAULT_SWITCHES
+
+    now = switches or DEFAULT_SWITCHES
+    return [f"backend.{k}" for k in REMOVED_BACKEND_KEYS if getattr(saved, k) != getattr(now, k)]
+
+
+def checkpoint_mismatch(
+    saved: dict | None,
+    cfg: MPMConfig,
+    switches: "BenchmarkSwitches | None" = None,
+    recorded: dict | None = None,
+) -> list[str]:
     """Dotted keys at which a checkpoint's configuration differs from ``cfg`` (the thread count,
     the folder, the end time, the step limit and the escape policy are not differences: see
-    :func:`refuse_other_run`); [] for a checkpoint that stores none (written by an older version)."""
+    :func:`refuse_other_run`), and its switches (its config's former ``backend`` keys and
+    ``recorded``, its meta's ``"switches"``: :func:`split_switches`) from ``switches`` (None: the
+    defaults); [] for a checkpoint that stores no configuration (written by an older version)."""
     if not saved:
         return []
+    saved, saved_switches = split_switches(saved, recorded, "checkpoint")
     try:  # a setting added since is its default there
         saved = MPMConfig.model_validate(saved).model_dump(mode="json")
     except ValueError:
         pass
-    return config_differences(saved, cfg.model_dump(mode="json"), ignore=set(CONFIG_KEY_IGNORED))
+    diff = config_differences(saved, cfg.model_dump(mode="json"), ignore=set(CONFIG_KEY_IGNORED))
+    return sorted(diff + switch_differences(saved_switches, switches))
 
 
-def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
+def refuse_other_run(run_dir: str | Path, cfg: MPMConfig, switches: "BenchmarkSwitches | None" = None) -> bool:
     """Raise InputError if ``run_dir`` holds a run (config.json) of a configuration other than
     ``cfg``, naming the differences. The thread count (the P2G sums do not depend on it) and the
     folder's own path (a moved folder) are not differences, and neither is a later end time: the
     same run, longer, goes on from the folder's checkpoint (nothing before the old end depends on
     the end time, so it equals a run made that long from the start), nor ``output.escaped`` turned from
     "stop" to "drop" (a run that went on to its checkpoint dropped no point, so that history is the
-    same under either; a run stopped by an escape goes on from its last checkpoint). Returns True if
-    the folder holds such a shorter run, which this one extends."""
+    same under either; a run stopped by an escape goes on from its last checkpoint). The folder's run
+    switches (:func:`split_switches`: a folder written while they were settings included) must equal
+    ``switches`` (None: the defaults). Returns True if the folder holds such a shorter run, which this
+    one extends."""
     from intrusim.errors import InputError
 
     config_path = Path(run_dir) / "config.json"
     if not config_path.exists():
         return False
-    saved = json.loads(config_path.read_text()).get("config") or {}
+    payload = json.loads(config_path.read_text())
+    saved, saved_switches = split_switches(payload.get("config") or {}, payload.get(SWITCHES_KEY), str(config_path))
     try:  # a setting added since the folder was written is its default there, as when it is loaded
         saved = MPMConfig.model_validate(saved).model_dump(mode="json")
     except ValueError:
@@ -185,6 +250,7 @@ def refuse_other_run(run_dir: str | Path, cfg: MPMConfig) -> bool:
     diff = config_differences(
         saved, cfg.model_dump(mode="json"), ignore={"backend.cpu_threads", "output.directory", "time.max_steps"}
     )
+    diff = sorted(diff + switch_differences(saved_switches, switches))
     saved_end = (saved.get("time") or {}).get("t_end")
     extends = "time.t_end" in diff and isinstance(saved_end, (int, float)) and cfg.time.t_end > saved_end
     if extends:

@@ -2,7 +2,7 @@
 
 Each field is an ndarray of shape (blocks, components) whose element is a vector of LANES floats:
 ``a[b, c]`` holds component c of the points b * LANES ... b * LANES + LANES - 1 (an array of
-structures of arrays). The CPU's vectorised kernels (``backend.simd_lanes``) read and write a
+structures of arrays). The CPU's vectorised kernels (``BenchmarkSwitches.simd_lanes``, the default) read and write a
 block's component as one vector load or store. With one array element per point (the former layout)
 every lane is its own load and insert; a G2P's particle reads and writes took 1.35-2.30x
 as long on 2 threads at 64k-1M points, 1.66-2.34x on one (``benchmarks/bench_layout.py``). A one-point kernel (a

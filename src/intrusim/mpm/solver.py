@@ -17,7 +17,7 @@ from intrusim._checks import InputError
 from intrusim.validation import check_run_size
 
 from . import io as mpm_io
-from .backend import ensure_initialized
+from .backend import DEFAULT_SWITCHES, BenchmarkSwitches, ensure_initialized
 from .bed import build_bed
 from .boundaries import SIDES, Walls
 from .config import MPMConfig, PrescribedMotion
@@ -86,10 +86,21 @@ class Solver:
     cfg : validated :class:`MPMConfig`.
     particles : optional initial particle arrays (see :data:`particles.FIELDS`); default: the
         bed of ``cfg.bed`` with geostatic stress.
+    switches : internal, for the benchmarks and tests that compare the step's other code paths with
+        the default (:class:`~intrusim.mpm.backend.BenchmarkSwitches`); a run leaves it out.
     """
 
-    def __init__(self, cfg: MPMConfig, particles: dict[str, np.ndarray] | None = None):
+    def __init__(
+        self,
+        cfg: MPMConfig,
+        particles: dict[str, np.ndarray] | None = None,
+        *,
+        switches: BenchmarkSwitches = DEFAULT_SWITCHES,
+    ):
+        if not isinstance(switches, BenchmarkSwitches):
+            raise TypeError(f"switches must be a BenchmarkSwitches, got {type(switches).__name__}")
         self.cfg = cfg
+        self.switches = switches
         limits = time_step_limits(cfg)  # the run's size (cells, steps) is refused here if beyond reach
         check_run_size(cfg, cfg.time.dt or min(limits["dt_elastic"], limits["dt_motion"]))
         backend = ensure_initialized(cfg.backend.arch, cfg.backend.precision, cfg.backend.cpu_threads)
@@ -98,13 +109,11 @@ class Solver:
         # (64-bit integer atomics: CPU and CUDA; not portable to Vulkan and Metal); scaled to rho_c h^2
         fixed = chunks == 1 and cfg.backend.deterministic_sums and backend.arch in ("cpu", "cuda")
         self.walls = Walls(cfg.boundaries)
-        # the point kernels vectorised (simd_lanes): float32 only, as in float64 the vectorised P2G crashes
+        # the point kernels vectorised (switches.simd_lanes): float32 only, as in float64 the vectorised P2G crashes
         # the process (a segmentation fault in Taichi 1.7.4's code, measured; its G2P runs),
         # and quadratic splines only (linear shape functions run the one-point kernels)
         self.linear = cfg.transfer.shape == "linear"
-        self._lanes = (
-            backend.arch == "cpu" and cfg.backend.simd_lanes and backend.precision == "f32" and not self.linear
-        )
+        self._lanes = backend.arch == "cpu" and switches.simd_lanes and backend.precision == "f32" and not self.linear
         self.grid = Grid(
             cfg.domain.size,
             cfg.domain.cells,
@@ -126,7 +135,7 @@ class Solver:
             PolygonContact(np.asarray(o.vertices), o.mu, band, self.fixed_scale, gap, nodes) for o in cfg.obstacles
         ]
         self.intruders = [
-            Intruder(ic, band, self.gravity, self.fixed_scale, cfg.backend.device_bodies, gap, nodes)
+            Intruder(ic, band, self.gravity, self.fixed_scale, switches.device_bodies, gap, nodes)
             for ic in cfg.intruders
         ]
         if particles is None:
@@ -283,8 +292,8 @@ class Solver:
     def step(self) -> None:
         """Advance one time step dt (SPEC 1 recipe, steps 1-6, then the rigid bodies).
 
-        The kernels run as one compiled Taichi graph (``backend.step_graph``, see step_graph)
-        or one call each; both give the same numbers.
+        The kernels run as one compiled Taichi graph (see step_graph), or one call each with the
+        benchmarks' ``BenchmarkSwitches(step_graph=False)``; both give the same numbers.
         """
         active = tuple(o.removal_time is None or self.t < o.removal_time for o in self.cfg.obstacles)
         launches = self._plans.get(active)
@@ -294,7 +303,7 @@ class Solver:
         t_next = (self.step_count + 1) * self.dt
         for k, body in enumerate(self.intruders):  # rigid intruders (Coulomb, no tension)
             values.update(body.launch_values(t_next, f"b{k}_"))
-        if self.cfg.backend.step_graph:
+        if self.switches.step_graph:
             graph = self._graphs.get(active)
             if graph is None:
                 graph = self._graphs[active] = StepGraph(launches, values)
@@ -474,7 +483,7 @@ class Solver:
 
         rec, snap, ckpt = every(out.record_every), every(out.snapshot_every), every(out.checkpoint_every)
         if self.run_dir is not None:
-            mpm_io.write_resolved_config(self.run_dir, self.cfg, {"dt": self.dt, **self.limits})
+            mpm_io.write_resolved_config(self.run_dir, self.cfg, {"dt": self.dt, **self.limits}, self.switches)
         if self.step_count == 0 and not self.rows:
             self.record()
             if snap and self.run_dir is not None:
@@ -581,6 +590,8 @@ class Solver:
             "impulse_mark": [a.tolist() for a in self._impulse_mark],
             "impulse_mark_ahead": [a.tolist() for a in self._impulse_mark_ahead],
         }
+        if self.switches.changed():  # a benchmark's or test's run: resumed on its own switches
+            meta[mpm_io.SWITCHES_KEY] = self.switches.changed()
         path.parent.mkdir(parents=True, exist_ok=True)
         arrays = self.particles.to_numpy()
         if self.fluidity is not None:  # the warm start of the next step's sweeps
@@ -593,7 +604,7 @@ class Solver:
         """Restore the state saved by :meth:`save_checkpoint` (same config: a checkpoint of another
         configuration is refused with an InputError naming the differences)."""
         arrays, meta = mpm_io.load_checkpoint(Path(path))
-        diff = mpm_io.checkpoint_mismatch(meta.get("config"), self.cfg)
+        diff = mpm_io.checkpoint_mismatch(meta.get("config"), self.cfg, self.switches, meta.get(mpm_io.SWITCHES_KEY))
         if diff:
             raise InputError(
                 f"{path} is a checkpoint of another configuration (differs in {', '.join(diff[:6])}); it is not loaded"
@@ -647,14 +658,19 @@ class Solver:
 
     @classmethod
     def resume(cls, run_dir: str | Path) -> "Solver":
-        """Rebuild a solver from a run folder's config.json and continue from checkpoint.npz."""
+        """Rebuild a solver from a run folder's config.json and continue from checkpoint.npz.
+
+        The run's switches come with it (:func:`intrusim.mpm.io.split_switches`): those it recorded,
+        or in a folder written while they were settings, its ``backend`` keys of them."""
         import json
 
         run_dir = Path(run_dir)
-        payload = json.loads((run_dir / "config.json").read_text())
-        cfg = MPMConfig.model_validate(payload["config"])
+        path = run_dir / "config.json"
+        payload = json.loads(path.read_text())
+        config, switches = mpm_io.split_switches(payload["config"], payload.get(mpm_io.SWITCHES_KEY), str(path))
+        cfg = MPMConfig.model_validate(config)
         cfg.output.directory = str(run_dir)  # this folder, wherever the run was first written
-        solver = cls(cfg)
+        solver = cls(cfg, switches=switches)
         ckpt = run_dir / CHECKPOINT
         if ckpt.exists():
             solver.load_checkpoint(ckpt)
@@ -668,7 +684,7 @@ class Solver:
         going on would overwrite that run's time series and its checkpoint."""
         if self.run_dir is None:
             return False
-        mpm_io.refuse_other_run(self.run_dir, self.cfg)
+        mpm_io.refuse_other_run(self.run_dir, self.cfg, self.switches)
         ckpt = self.run_dir / CHECKPOINT
         if not ckpt.exists():
             return False
