@@ -19,9 +19,9 @@ grouser tips) ahead of and behind the wheel centre, and the MPM's own ahead / be
 its time series has it (fx_ahead, fz_ahead: runs made or extended since that column exists).
 
     python research/drft_at_mpm_state.py runs/settled/* runs/digging/90 --last 1.0 --parts \
-        --calibration "4p fit (settled)=docs/figures/calibration_wheel_band0_settled_4p.json" \
-        --out docs/figures/drft_at_mpm_state
-    python research/drft_at_mpm_state.py runs/split/* --last 0.5 --parts --out docs/figures/drft_at_mpm_state_split
+        --calibration "4p fit (settled)=research/outputs/calibration_wheel_band0_settled_4p.json" \
+        --out research/outputs/drft_at_mpm_state
+    python research/drft_at_mpm_state.py runs/split/* --last 0.5 --parts --out research/outputs/drft_at_mpm_state_split
 """
 
 from __future__ import annotations

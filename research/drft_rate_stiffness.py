@@ -13,11 +13,11 @@ held pair measures
 refits xi_ref on the fit runs with c fixed, predicts the check runs, and finds at each check omega
 the xi that would give the MPM's sinkage, with the speed and slip DRFT then has:
 
-    python research/drft_rate_stiffness.py docs/figures/drft_at_switch_{10,15,20,60}rpm.csv \
-        --calibration docs/figures/calibration_wheel_nonlocal_xi.json \
-        --fit docs/figures/mpm_nonlocal/grousered_wheel_mpm_sweep.csv \
-        --check docs/figures/mpm_nonlocal_blind_all/grousered_wheel_mpm_sweep.csv \
-        --out docs/figures/drft_rate_stiffness                                   # ~1 min
+    python research/drft_rate_stiffness.py research/outputs/drft_at_switch_{10,15,20,60}rpm.csv \
+        --calibration research/outputs/calibration_wheel_nonlocal_xi.json \
+        --fit research/outputs/mpm_nonlocal/grousered_wheel_mpm_sweep.csv \
+        --check research/outputs/mpm_nonlocal_blind_all/grousered_wheel_mpm_sweep.csv \
+        --out research/outputs/drft_rate_stiffness                                   # ~1 min
 
 Writes OUT_held.csv (c of each pair), OUT.csv (each model at each omega against the MPM),
 OUT.json (the fits) and OUT.png (the sinkage and speed errors against omega; the xi each check

@@ -16,7 +16,7 @@ measurement, so this script re-measures dh on the particle snapshots of finished
   bounding circle lies below the undisturbed surface (what "the drop of the rear free surface"
   would mean without reference to contact pressure).
 
-    python research/free_surface_sensitivity.py runs/band --out docs/figures/free_surface_sensitivity
+    python research/free_surface_sensitivity.py runs/band --out research/outputs/free_surface_sensitivity
 
 writes OUT.csv (one row per run and choice: mean dh over the snapshots) and OUT.png (dh / r
 against r omega^2 / g for each choice, with the identity). Run folders are found under the given

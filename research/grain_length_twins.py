@@ -8,11 +8,11 @@ against d / r, the change per doubling of d, and plots them with the reference (
 6 mm grains, d / r 0.057) for scale (research/notes/results_log.md):
 
     python research/grain_length_twins.py \\
-        --run docs/figures/small_wheel_42rpm_twin_6s.csv "small wheel, 2.5 mm, 3 mm grains, half box" 3e-3 \\
-        --run docs/figures/small_wheel_42rpm_twin_d6_6s.csv "small wheel, 2.5 mm, 6 mm grains, half box" 6e-3 \\
-        --run docs/figures/small_wheel_42rpm_twin_d12_6s.csv "small wheel, 2.5 mm, 12 mm grains, half box" 12e-3 \\
-        --reference docs/figures/wheel_30rpm_nonlocal_treadmill.csv "5 mm, treadmill in 1 m" 6e-3 \\
-        --window 6.0 8.5 --out docs/figures/grain_length_twins
+        --run research/outputs/small_wheel_42rpm_twin_6s.csv "small wheel, 2.5 mm, 3 mm grains, half box" 3e-3 \\
+        --run research/outputs/small_wheel_42rpm_twin_d6_6s.csv "small wheel, 2.5 mm, 6 mm grains, half box" 6e-3 \\
+        --run research/outputs/small_wheel_42rpm_twin_d12_6s.csv "small wheel, 2.5 mm, 12 mm grains, half box" 12e-3 \\
+        --reference research/outputs/wheel_30rpm_nonlocal_treadmill.csv "5 mm, treadmill in 1 m" 6e-3 \\
+        --window 6.0 8.5 --out research/outputs/grain_length_twins
 
 ``--run`` takes a run_histories.py window CSV of the small wheel at 42.4264 RPM, the run's label and
 its grain diameter (m); ``--reference`` the same for the large wheel at 30 RPM. ``--window`` is in
@@ -26,14 +26,14 @@ cells (h / r 0.024 too) at two omegas, each over its own window, interpolated li
 42.43 RPM: by Froude scaling with d / r and h / r kept, the large wheel's twin at d / r of its grains::
 
     python research/grain_length_twins.py ... (the twins, as above) \
-        --fine docs/figures/wheel_30rpm_nonlocal_treadmill.csv "2.5 mm, treadmill in 1 m from 2.75 s" 6e-3 \
-        --fine docs/figures/wheel_30rpm_nonlocal_d12.csv "2.5 mm, 12 mm grains, treadmill in 1 m" 12e-3 \
+        --fine research/outputs/wheel_30rpm_nonlocal_treadmill.csv "2.5 mm, treadmill in 1 m from 2.75 s" 6e-3 \
+        --fine research/outputs/wheel_30rpm_nonlocal_d12.csv "2.5 mm, 12 mm grains, treadmill in 1 m" 12e-3 \
         --fine-window 4.5 6.0 \
-        --small-pair docs/figures/small_wheel_30rpm_nonlocal_cells_3p5s.csv \
+        --small-pair research/outputs/small_wheel_30rpm_nonlocal_cells_3p5s.csv \
             "small wheel, 1.25 mm, 0.45 m box, to 3.5 s" 6e-3 30 3.0 3.5 \
-        --small-pair docs/figures/small_wheel_60rpm_nonlocal_cells_3s.csv \
+        --small-pair research/outputs/small_wheel_60rpm_nonlocal_cells_3s.csv \
             "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.0 s" 6e-3 60 2.5 3.0 \
-        --out docs/figures/grain_length_grids
+        --out research/outputs/grain_length_grids
 """
 
 from __future__ import annotations

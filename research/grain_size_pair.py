@@ -9,11 +9,11 @@ by side with the large wheel's steady state at the same omega / omega_0 (linear 
 two of its settled runs), and gives the verdict registered in research/notes/results_log.md (b119ed1):
 
     python research/grain_size_pair.py \\
-        --run docs/figures/small_wheel_60rpm_nonlocal_cells_3p5s.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s" 6e-3 \\
-        --run docs/figures/small_wheel_60rpm_nonlocal_d3mm.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, 3 mm grains" 3e-3 \\
-        --large docs/figures/wheel_30rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m from 2.75 s" \\
-        --large docs/figures/wheel_60rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m" \\
-        --omega 60 --window 1.5 2.0 --out docs/figures/grain_size_pair
+        --run research/outputs/small_wheel_60rpm_nonlocal_cells_3p5s.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s" 6e-3 \\
+        --run research/outputs/small_wheel_60rpm_nonlocal_d3mm.csv "small wheel, 1.25 mm, 60 RPM, 0.45 m box, 3 mm grains" 3e-3 \\
+        --large research/outputs/wheel_30rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m from 2.75 s" \\
+        --large research/outputs/wheel_60rpm_nonlocal_treadmill_steady.csv "2.5 mm, treadmill in 1 m" \\
+        --omega 60 --window 1.5 2.0 --out research/outputs/grain_size_pair
 
 ``--run`` takes a run_histories.py window CSV, the run's label in it and its grain diameter (m);
 ``--large`` a run_histories.py ``_steady.csv`` and the row's label (its omega is in the row). Writes OUT.csv

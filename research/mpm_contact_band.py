@@ -24,8 +24,8 @@ law with a chosen band.
         --ramp-time 0.10606602 --chunk 0.035355339 --t-max 3.2 --threads 2 --out runs/twin_scaled  # a Froude twin
     python research/mpm_contact_band.py table runs/band runs/mpm-2p5 runs/mpm9-graph
     python research/mpm_contact_band.py table runs/band --merge docs/figures/wheel_resolution.csv
-    python research/mpm_contact_band.py sweep --band 0 --out docs/figures/mpm_band0/grousered_wheel_mpm_sweep.csv
-    python research/mpm_contact_band.py sweep --band 0 --wheel small --out docs/figures/mpm_band0/small_grousered_wheel_mpm_sweep.csv
+    python research/mpm_contact_band.py sweep --band 0 --out research/outputs/mpm_band0/grousered_wheel_mpm_sweep.csv
+    python research/mpm_contact_band.py sweep --band 0 --wheel small --out research/outputs/mpm_band0/small_grousered_wheel_mpm_sweep.csv
     python research/mpm_contact_band.py plate --band 0                     # 15 runs, ~11 min
     python research/mpm_contact_band.py plate --band 0 --cell-mm 5         # ~2 min
 

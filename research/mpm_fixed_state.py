@@ -9,7 +9,7 @@ bed at rest with the wheel already in place, and records the force on it.
 
     python research/mpm_fixed_state.py run --cell-mm 2.5 --z 0.2102 --vx 0.148 --rpm 30   # ~5 min, 2 threads
     python research/mpm_fixed_state.py run --cell-mm 1.25 --z 0.2007 --vx 0.1095 --rpm 30  # ~40 min
-    python research/mpm_fixed_state.py table runs/fixed --out docs/figures/wheel_fixed_state
+    python research/mpm_fixed_state.py table runs/fixed --out research/outputs/wheel_fixed_state
 
 `switch` starts from a free (coupled) run's last checkpoint instead of a bed at rest: the wheel
 keeps its height, its forward speed is held at the free run's mean over --window (times --vx-scale),
@@ -404,7 +404,7 @@ def main() -> None:
         metavar="S",
         help="also write OUT_after_switch.csv: means over consecutive S-second windows from the switch",
     )
-    t.add_argument("--out", default="docs/figures/wheel_fixed_state")
+    t.add_argument("--out", default="research/outputs/wheel_fixed_state")
     args = ap.parse_args()
     {"run": run, "switch": switch, "table": table}[args.cmd](args)
 

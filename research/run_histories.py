@@ -8,7 +8,7 @@ plotted in OUT.png (v and sinkage against time, one line per run).
     python research/run_histories.py \
         runs/small-fine/small_grousered_wheel_90rpm_2.5mm_band0_0.6x0.5m \
         runs/small-fine/small_grousered_wheel_90rpm_1.25mm_band0_0.6x0.5m \
-        --label "2.5 mm" --label "1.25 mm" --out docs/figures/small_wheel_cells
+        --label "2.5 mm" --label "1.25 mm" --out research/outputs/small_wheel_cells
 """
 
 from __future__ import annotations

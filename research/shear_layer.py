@@ -39,7 +39,7 @@ run ... --snapshot-every S`, one run per cell size) from the particle snapshots 
     python research/mpm_fixed_state.py run --cell-mm 0.625 ... --t-max 0.4 --domain 0.45 0.4 --fluidity-diameter 6e-3 \\
         --snapshot-every 0.025 --out runs/shear_ngf_small                   # and 1.25 mm, the same box (item 9)
     python research/shear_layer.py runs/shear runs/shear_small runs/shear_visc runs/shear_mui runs/shear_ngf \\
-        runs/shear_dt runs/shear_ngf_small --out docs/figures/shear_layer
+        runs/shear_dt runs/shear_ngf_small --out research/outputs/shear_layer
 
 Writes NAME.csv (one row per run), NAME_profiles.csv (the binned profiles), NAME.png (profiles,
 widths, the 99th percentile and the lift against the cell size) and NAME_fields.png (gdot_p around the
@@ -265,7 +265,7 @@ def main() -> None:
     ap.add_argument("folders", nargs="+", help="folders of fixed-state run folders (or run folders)")
     ap.add_argument("--window", type=float, nargs=2, default=(0.3, 0.4), metavar=("T0", "T1"), help="s")
     ap.add_argument("--sector-deg", type=float, default=15.0, help="degrees either side of the downward vertical")
-    ap.add_argument("--out", default="docs/figures/shear_layer")
+    ap.add_argument("--out", default="research/outputs/shear_layer")
     args = ap.parse_args()
     if not args.window[0] < args.window[1]:
         raise SystemExit(f"--window {args.window}: T0 must be below T1")

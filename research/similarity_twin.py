@@ -8,9 +8,9 @@ twin's windows are the reference's scaled by sqrt(r_twin / r_reference) (0.3536 
 script pairs the windows, compares them and gives the verdict registered in research/notes/results_log.md:
 
     python research/similarity_twin.py \\
-        --reference docs/figures/wheel_30rpm_nonlocal_treadmill.csv "5 mm, treadmill in 1 m" 30 \\
-        --twin docs/figures/small_wheel_42rpm_twin.csv "small wheel, 2.5 mm, 3 mm grains, half box" 42.4264 \\
-        --window 3.5 4.5 --out docs/figures/similarity_twin
+        --reference research/outputs/wheel_30rpm_nonlocal_treadmill.csv "5 mm, treadmill in 1 m" 30 \\
+        --twin research/outputs/small_wheel_42rpm_twin.csv "small wheel, 2.5 mm, 3 mm grains, half box" 42.4264 \\
+        --window 3.5 4.5 --out research/outputs/similarity_twin
 
 ``--reference`` takes a run_histories.py window CSV of the Table S1 wheel, the run's label in it
 and its omega (RPM); ``--twin`` the same for the small wheel (its CSV made with ``--every`` the

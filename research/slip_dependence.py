@@ -9,8 +9,8 @@ v_s = r omega - v, and the sinkage against the slip s = v_s / (r omega).
     python research/slip_dependence.py \
         --sweep docs/figures/mpm_band0_settled/grousered_wheel_mpm_sweep.csv \
         --sweep docs/figures/mpm_small_1p25mm/small_grousered_wheel_mpm_sweep.csv \
-        --variants docs/figures/wheel_load.csv --variants docs/figures/wheel_lugs.csv \
-        --variants docs/figures/wheel_push.csv --out docs/figures/slip_dependence
+        --variants research/outputs/wheel_load.csv --variants research/outputs/wheel_lugs.csv \
+        --variants research/outputs/wheel_push.csv --out research/outputs/slip_dependence
 
 The time constant tau of the slip law dh = tau v_s (least squares through the origin) is fitted
 on the first --sweep only (the large wheel's omega sweep); every other run is a check of it.

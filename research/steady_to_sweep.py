@@ -6,9 +6,9 @@ research/notes/results_log.md (the nonlocal-law wheels on the treadmill) are sum
 ``NAME_steady.csv`` files instead; this picks the rows whose label contains ``--label-contains``
 from any number of them and writes one sweep CSV, sorted by omega:
 
-    python research/steady_to_sweep.py docs/figures/wheel_30rpm_nonlocal_treadmill_steady.csv \
-        docs/figures/wheel_90rpm_nonlocal_treadmill_steady.csv --label-contains "2.5 mm" \
-        --cell-mm 2.5 --out docs/figures/mpm_nonlocal/grousered_wheel_mpm_sweep.csv
+    python research/steady_to_sweep.py research/outputs/wheel_30rpm_nonlocal_treadmill_steady.csv \
+        research/outputs/wheel_90rpm_nonlocal_treadmill_steady.csv --label-contains "2.5 mm" \
+        --cell-mm 2.5 --out research/outputs/mpm_nonlocal/grousered_wheel_mpm_sweep.csv
 
 A row is marked settled when its velocity drift (change of v across the window, relative) is
 below --settled-drift (default 0.05, the sweep's own criterion).

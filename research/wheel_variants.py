@@ -8,15 +8,15 @@ another constant forward push (N; < 0 a drawbar load), at one omega; the MPM run
 (`research/mpm_contact_band.py wheel 30 ... --lug-count N`, `--mass-z KG` or `--push N`) are then
 set against the prediction.
 
-    python research/wheel_variants.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
-        --out docs/figures/wheel_lugs_prediction.csv
+    python research/wheel_variants.py predict --calibration research/outputs/calibration_wheel_band0_settled_bulldozing.json \
+        --out research/outputs/wheel_lugs_prediction.csv
     python research/wheel_variants.py compare runs/lugs/* --window 2.0 3.0 \
-        --prediction docs/figures/wheel_lugs_prediction.csv --out docs/figures/wheel_lugs \
-        --history docs/figures/wheel_30rpm_start_band0.csv:grousered_wheel_30rpm_2.5mm_band0_1x0.4m_bed0.15m:20
-    python research/wheel_variants.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
-        --lug-counts 20 --mass-z 3.15 6.3 9.45 --out docs/figures/wheel_load_prediction.csv
-    python research/wheel_variants.py predict --calibration docs/figures/calibration_wheel_band0_settled_bulldozing.json \
-        --lug-counts 20 --push -4 0 4 8 12 --out docs/figures/wheel_push_prediction.csv
+        --prediction research/outputs/wheel_lugs_prediction.csv --out research/outputs/wheel_lugs \
+        --history research/outputs/wheel_30rpm_start_band0.csv:grousered_wheel_30rpm_2.5mm_band0_1x0.4m_bed0.15m:20
+    python research/wheel_variants.py predict --calibration research/outputs/calibration_wheel_band0_settled_bulldozing.json \
+        --lug-counts 20 --mass-z 3.15 6.3 9.45 --out research/outputs/wheel_load_prediction.csv
+    python research/wheel_variants.py predict --calibration research/outputs/calibration_wheel_band0_settled_bulldozing.json \
+        --lug-counts 20 --push -4 0 4 8 12 --out research/outputs/wheel_push_prediction.csv
 
 `predict` writes, for each variant (N, m_z, push) and model (the paper's DRFT; the paper's DRFT +
 bulldozing with the calibration's k_b), the steady v and sinkage. `compare` averages each MPM run

@@ -10,11 +10,11 @@ sweep (8 starts, as the CLI), fits the law xi = xi_ref (d / r / q_ref)^p through
 own d / r against DRFT without a length (the first fit's xi for every wheel)::
 
     python research/xi_grain_length.py \\
-        --fit wheel docs/figures/mpm_nonlocal/grousered_wheel_mpm_sweep.csv 6e-3 \\
-        --fit wheel docs/figures/mpm_nonlocal_d12/grousered_wheel_mpm_sweep.csv 12e-3 \\
-        --check small-wheel docs/figures/mpm_nonlocal_fine_all/small_grousered_wheel_mpm_sweep.csv 6e-3 \\
-        --check wheel docs/figures/mpm_nonlocal_blind_all/grousered_wheel_mpm_sweep.csv 6e-3 \\
-        --out docs/figures/xi_grain_length                                                  # ~40 s
+        --fit wheel research/outputs/mpm_nonlocal/grousered_wheel_mpm_sweep.csv 6e-3 \\
+        --fit wheel research/outputs/mpm_nonlocal_d12/grousered_wheel_mpm_sweep.csv 12e-3 \\
+        --check small-wheel research/outputs/mpm_nonlocal_fine_all/small_grousered_wheel_mpm_sweep.csv 6e-3 \\
+        --check wheel research/outputs/mpm_nonlocal_blind_all/grousered_wheel_mpm_sweep.csv 6e-3 \\
+        --out research/outputs/xi_grain_length                                                  # ~40 s
 
 ``--fit`` and ``--check`` take a scenario (``wheel``, ``small-wheel`` or a .toml), an MPM sweep CSV
 (``research/steady_to_sweep.py``) and the run's grain diameter d (m); d / r uses the scenario's

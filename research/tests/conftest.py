@@ -10,7 +10,7 @@ import pytest
 
 RESEARCH = Path(__file__).resolve().parents[1]
 ROOT = RESEARCH.parent
-FIGURES = ROOT / "docs" / "figures"
+OUTPUTS = RESEARCH / "outputs"  # what the scripts wrote (research/outputs/README.md)
 
 if str(RESEARCH) not in sys.path:  # the scripts import their helpers as ``helpers.*``
     sys.path.insert(0, str(RESEARCH))
@@ -39,10 +39,10 @@ class History(dict):
 
 @pytest.fixture(scope="session")
 def figure_history():
-    """Read ``docs/figures/NAME`` (a run_histories.py CSV) as a :class:`History`."""
+    """Read ``research/outputs/NAME`` (a run_histories.py CSV) as a :class:`History`."""
 
     def read(name: str) -> History:
-        with (FIGURES / name).open(newline="") as f:
+        with (OUTPUTS / name).open(newline="") as f:
             return History(
                 {
                     (r["label"], round(float(r["t_start"]), 3)): (float(r["velocity"]), float(r["sinkage"]))

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
-HELD = [FIG / f"drft_at_switch_{s}rpm.csv" for s in (10, 15, 20, 60)]
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+HELD = [OUT / f"drft_at_switch_{s}rpm.csv" for s in (10, 15, 20, 60)]
 
 
 @pytest.fixture(scope="module")
@@ -25,9 +25,9 @@ def script(load_example):
 
 @pytest.fixture(scope="module")
 def result(script):
-    return script.analyse(HELD, FIG / "calibration_wheel_nonlocal_xi.json",
-                          FIG / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv",
-                          FIG / "mpm_nonlocal_blind_all" / "grousered_wheel_mpm_sweep.csv")  # fmt: skip
+    return script.analyse(HELD, OUT / "calibration_wheel_nonlocal_xi.json",
+                          OUT / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv",
+                          OUT / "mpm_nonlocal_blind_all" / "grousered_wheel_mpm_sweep.csv")  # fmt: skip
 
 
 def _row(result, model, omega):
@@ -48,7 +48,7 @@ def test_each_held_pair_measures_a_rate_exponent_drft_lacks(result):
 
 def test_without_a_rate_term_the_fit_gives_the_calibrated_xi(result):
     """c = 0 refits xi_ref to the xi of `intrusim calibrate` (1.938), and its 10 RPM miss (v +18.9 %, s -27 %)."""
-    registered = json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
+    registered = json.loads((OUT / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
     assert result["fits"]["xi-DRFT (c = 0)"]["xi_ref"] == pytest.approx(registered, rel=2e-3)
     r = _row(result, "xi-DRFT (c = 0)", 10.0)
     assert r["dv"] == pytest.approx(0.189, abs=0.005) and r["ds"] == pytest.approx(-0.270, abs=0.005)
@@ -92,7 +92,7 @@ def test_nor_is_it_the_rear_drop(result):
 
 
 def test_at_10_rpm_no_drop_up_to_30_mm_moves_the_sinkage(script):
-    fm = json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["force_model"]
+    fm = json.loads((OUT / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["force_model"]
     model = script.Drft(fm)
     sinkage = [model.state(10.0, fm["xi"], dh)[1] for dh in (0.0, 0.01, 0.03)]
     assert max(sinkage) - min(sinkage) < 0.3e-3, sinkage  # 0.17 mm

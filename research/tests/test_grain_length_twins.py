@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
-D3 = (FIG / "small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 3e-3)
-D6 = (FIG / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 6e-3)
-REFERENCE = (FIG / "wheel_30rpm_nonlocal_treadmill.csv", "5 mm, treadmill in 1 m", 6e-3)
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+D3 = (OUT / "small_wheel_42rpm_twin_6s.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 3e-3)
+D6 = (OUT / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 6e-3)
+REFERENCE = (OUT / "wheel_30rpm_nonlocal_treadmill.csv", "5 mm, treadmill in 1 m", 6e-3)
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +41,7 @@ def test_doubling_d_from_3_to_6_mm_takes_0p113_of_slip_and_0p064_of_sinkage_over
     ([D3], (6.0, 8.5), "two or more runs"),
     ([D3, D3], (6.0, 8.5), "two or more runs"),
     ([D3, D6], (8.5, 6.0), "must end after"),
-    ([D3, (FIG / "no_such.csv", "x", 1e-3)], (6.0, 8.5), "no such file"),
+    ([D3, (OUT / "no_such.csv", "x", 1e-3)], (6.0, 8.5), "no such file"),
     ([D3, (D6[0], D6[1], -6e-3)], (6.0, 8.5), "grain diameter"),
 ])  # fmt: skip
 def test_bad_input_is_refused_with_a_reason(script, runs, window, match):
@@ -51,7 +51,7 @@ def test_bad_input_is_refused_with_a_reason(script, runs, window, match):
         script.analyse(runs, None, window)
 
 
-D12 = (FIG / "small_wheel_42rpm_twin_d12_6s.csv", "small wheel, 2.5 mm, 12 mm grains, half box", 12e-3)
+D12 = (OUT / "small_wheel_42rpm_twin_d12_6s.csv", "small wheel, 2.5 mm, 12 mm grains, half box", 12e-3)
 
 
 def test_with_12_mm_grains_the_effect_goes_on_a_little_slower_per_doubling(script):
@@ -68,10 +68,10 @@ def test_with_12_mm_grains_the_effect_goes_on_a_little_slower_per_doubling(scrip
     assert first < second < 0  # monotonic, the second doubling takes less
 
 
-FINE_D6 = (FIG / "wheel_30rpm_nonlocal_treadmill.csv", "2.5 mm, treadmill in 1 m from 2.75 s", 6e-3)
+FINE_D6 = (OUT / "wheel_30rpm_nonlocal_treadmill.csv", "2.5 mm, treadmill in 1 m from 2.75 s", 6e-3)
 SMALL_PAIR = [
-    (FIG / "small_wheel_30rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 0.45 m box, to 3.5 s", 6e-3, 30.0, (3.0, 3.5)),
-    (FIG / "small_wheel_60rpm_nonlocal_cells_3s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.0 s", 6e-3, 60.0,
+    (OUT / "small_wheel_30rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 0.45 m box, to 3.5 s", 6e-3, 30.0, (3.0, 3.5)),
+    (OUT / "small_wheel_60rpm_nonlocal_cells_3s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.0 s", 6e-3, 60.0,
      (2.5, 3.0)),
 ]  # fmt: skip
 
@@ -117,7 +117,7 @@ def test_the_twins_omega_must_be_the_references_omega_over_omega0(script, monkey
         script.analyse([D3, D6], None, (6.0, 8.5))
 
 
-FINE_D12 = (FIG / "wheel_30rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, treadmill in 1 m", 12e-3)
+FINE_D12 = (OUT / "wheel_30rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, treadmill in 1 m", 12e-3)
 
 
 def test_on_the_resolved_grid_doubling_d_still_takes_slip_at_0p6x_the_coarse_grids_rate(script):
@@ -143,7 +143,7 @@ def test_at_the_small_wheels_own_omega_the_12_mm_large_wheel_is_its_twin(script)
     """The second outcome (registered): the 12 mm-grain large wheel at 42.43 RPM over 3.5-4.0 s
     against the 1.25 mm small wheel with 6 mm grains at 60 RPM over 2.5-3.0 s (the same omega / omega_0,
     d / r and h / r): within 0.015 in slip and 0.010 in sinkage / r."""
-    big = script.state(FIG / "wheel_42rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 42.43 RPM, treadmill in 1 m", 12e-3,
+    big = script.state(OUT / "wheel_42rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 42.43 RPM, treadmill in 1 m", 12e-3,
                        42.4264, 0.106, (3.5, 4.0))  # fmt: skip
     small = script.state(*SMALL_PAIR[1][:3], 60.0, 0.053, (2.5, 3.0))
     assert (big["slip"], big["sinkage_over_r"]) == (pytest.approx(0.048, abs=0.001), pytest.approx(0.156, abs=0.001))
@@ -155,7 +155,7 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
     wheel at 10 RPM against the 6 mm one. (a) slip more than 0.03 below 0.246: met (0.174); (b) the
     excess slip over 30 RPM is a length effect below 0.120, not one above 0.161: not (0.174);
     (c), (d) xi-DRFT within 15 % in v and sinkage: both miss the sinkage."""
-    big = script.state(FIG / "wheel_10rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m", 12e-3,
+    big = script.state(OUT / "wheel_10rpm_nonlocal_d12.csv", "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m", 12e-3,
                        10.0, 0.106, (5.0, 6.0))  # fmt: skip
     assert big["windows"] == 2 and big["drift"] < 0.05  # settled by the registered rule
     assert (big["velocity"], big["sinkage"], big["slip"]) == (
@@ -163,7 +163,7 @@ def test_at_10_rpm_doubling_d_takes_the_same_slip_and_leaves_the_excess(script):
         pytest.approx(24.27e-3, abs=0.02e-3),
         pytest.approx(0.174, abs=0.001),
     )
-    six = script.state(FIG / "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 6e-3, 10.0, 0.106,
+    six = script.state(OUT / "wheel_10rpm_nonlocal_treadmill.csv", "2.5 mm, 10 RPM, treadmill in 1 m", 6e-3, 10.0, 0.106,
                        (5.0, 6.0))  # the 6 mm-grain wheel, an earlier study  # fmt: skip
     six_slip, six_sinkage = six["slip"], six["sinkage"]
     assert (six_slip, six_sinkage) == (pytest.approx(0.246, abs=0.001), pytest.approx(26.93e-3, abs=0.02e-3))
@@ -187,7 +187,7 @@ def test_carried_to_8_s_the_10_rpm_sinkage_settles_just_outside_xi_drfts_15_perc
     19.7 mm) is met if the MPM sinks at most 23.19 mm: it sinks 23.35 mm, so the sinkage misses by 0.6
     points (-15.6 %) and v is within (+8.0 %); the excess slip stays above (b)'s 0.161."""
     label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
-    csv = FIG / "wheel_10rpm_nonlocal_d12_to8s.csv"
+    csv = OUT / "wheel_10rpm_nonlocal_d12_to8s.csv"
     late = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 8.0))
     halves = [script.state(csv, label, 12e-3, 10.0, 0.106, w) for w in ((7.0, 7.5), (7.5, 8.0))]
     assert late["windows"] == 2 and abs(late["drift"]) < 0.01
@@ -211,7 +211,7 @@ def test_carried_to_10_s_the_10_rpm_sinkage_eases_slowly_and_sits_on_xi_drfts_15
     7.0-8.0 s, limit 0.3): the decline slowed from ~0.8 to ~0.09 mm/s. (c') met by the registered
     threshold (23.19 mm) by 0.01 mm; with the DRFT run's unrounded sinkage (19.66 mm) -15.2 %: on the edge."""
     label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
-    csv = FIG / "wheel_10rpm_nonlocal_d12_to10s.csv"
+    csv = OUT / "wheel_10rpm_nonlocal_d12_to10s.csv"
     late = script.state(csv, label, 12e-3, 10.0, 0.106, (9.0, 10.0))
     halves = [script.state(csv, label, 12e-3, 10.0, 0.106, w) for w in ((9.0, 9.5), (9.5, 10.0))]
     before = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 8.0))
@@ -235,7 +235,7 @@ def test_carried_to_14_s_the_10_rpm_sinkage_has_stopped_at_xi_drfts_limit(script
     registered 22.93 and 23.33). Over 7-14 s (14 windows) the sinkage is 23.22 mm (23.03-23.37):
     xi-DRFT (unrounded 19.66 mm) -15.3 % in sinkage, +8.5 % in v."""
     label = "2.5 mm, 12 mm grains, 10 RPM, treadmill in 1 m"
-    csv = FIG / "wheel_10rpm_nonlocal_d12_to14s.csv"
+    csv = OUT / "wheel_10rpm_nonlocal_d12_to14s.csv"
     late = script.state(csv, label, 12e-3, 10.0, 0.106, (13.0, 14.0))
     mid = script.state(csv, label, 12e-3, 10.0, 0.106, (11.0, 12.0))
     plateau = script.state(csv, label, 12e-3, 10.0, 0.106, (7.0, 14.0))

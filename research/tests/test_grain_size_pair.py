@@ -12,11 +12,11 @@ import pytest
 
 from intrusim._checks import InputError
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
-D6 = (FIG / "small_wheel_60rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s", 6e-3)
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+D6 = (OUT / "small_wheel_60rpm_nonlocal_cells_3p5s.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, to 3.5 s", 6e-3)
 LARGE = [
-    (FIG / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s"),
-    (FIG / "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m"),
+    (OUT / "wheel_30rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m from 2.75 s"),
+    (OUT / "wheel_60rpm_nonlocal_treadmill_steady.csv", "2.5 mm, treadmill in 1 m"),
 ]
 
 
@@ -60,7 +60,7 @@ def test_a_window_past_the_run_is_refused(script):
         script.analyse([D6, D6], LARGE, 60.0, (3.5, 4.0))
 
 
-D3 = (FIG / "small_wheel_60rpm_nonlocal_d3mm.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, 3 mm grains", 3e-3)
+D3 = (OUT / "small_wheel_60rpm_nonlocal_d3mm.csv", "small wheel, 1.25 mm, 60 RPM, 0.45 m box, 3 mm grains", 3e-3)
 
 
 @pytest.fixture(scope="module")

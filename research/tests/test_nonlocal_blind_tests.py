@@ -17,13 +17,13 @@ import pytest
 from intrusim.analysis.calibration import drft_steady_states, with_mpm_push, with_parameters
 from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
 SMALL_R = 0.053021  # m, the small wheel's outer radius (grouser tips)
 LARGE_R = 0.10604  # m, the Table S1 wheel's
 
 
 def _steady(name: str) -> dict[str, dict[str, float]]:
-    with (FIG / name).open(newline="") as f:
+    with (OUT / name).open(newline="") as f:
         return {r["label"]: {k: float(v) for k, v in r.items() if k not in ("run", "label")} for r in csv.DictReader(f)}
 
 
@@ -50,7 +50,7 @@ def _settled(
 
 def _curve_sinkage(slip: float, radius: float) -> float:
     """Sinkage (m) of a wheel of this outer radius at this slip on the quadratic of slip_dependence.json."""
-    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    c0, c1, c2 = json.loads((OUT / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
     return radius * (c0 + c1 * slip + c2 * slip * slip)
 
 
@@ -76,7 +76,7 @@ def _repeats(figure_history, name: str, label: str, before_name: str, before_lab
 
 @pytest.fixture(scope="module")
 def xi() -> float:
-    return json.loads((FIG / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
+    return json.loads((OUT / "calibration_wheel_nonlocal_xi.json").read_text())["calibration"]["values"]["xi"]
 
 
 def _drft(scenario, xi: float, omega_rpm: float) -> tuple[float, float, float]:
@@ -324,7 +324,7 @@ def test_the_10_rpm_wheel_at_5_mm_met_its_resolution_predictions():
 
 
 def _held(name: str, rpm: float) -> dict[str, float]:
-    with (FIG / name).open(newline="") as f:
+    with (OUT / name).open(newline="") as f:
         (row,) = [r for r in csv.DictReader(f) if float(r["omega_rpm"]) == rpm]
     return {k: float(row[k]) for k in ("vx", "fx", "fz", "fz_last_half", "t_end")}
 
@@ -509,7 +509,7 @@ def test_the_small_wheel_at_1p25_mm_rides_where_the_large_wheel_did_at_2p5_mm():
 
 
 def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
-    """docs/figures/mpm_nonlocal_blind, mpm_nonlocal_blind_all, mpm_nonlocal_fine and _fine_all: the rows
+    """research/outputs/mpm_nonlocal_blind, mpm_nonlocal_blind_all, mpm_nonlocal_fine and _fine_all: the rows
     `intrusim calibrate --check` reads, as research/steady_to_sweep.py writes them from the committed
     steady states."""
     mod = load_example("steady_to_sweep")
@@ -546,8 +546,8 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
             1.25,
         ),
     ):
-        rows = mod.sweep_rows([FIG / f for f in steadies], f"{cells:g} mm", cells, 0.05)
-        with (FIG / folder / sweep).open(newline="") as f:
+        rows = mod.sweep_rows([OUT / f for f in steadies], f"{cells:g} mm", cells, 0.05)
+        with (OUT / folder / sweep).open(newline="") as f:
             committed = list(csv.DictReader(f))
         assert len(rows) == len(committed) == len(steadies)
         for row, com in zip(rows, committed):
@@ -557,13 +557,13 @@ def test_the_blind_sweep_csvs_are_the_steady_rows(load_example):
 
 def _switch_rows(name: str) -> dict[float, dict[str, float]]:
     """The held rows of an ``mpm_fixed_state.py table`` CSV, by omega (RPM)."""
-    with (FIG / name).open(newline="") as f:
+    with (OUT / name).open(newline="") as f:
         return {float(r["omega_rpm"]): {k: float(r[k]) for k in ("z", "vx", "fx", "fz", "moment", "t_switch", "t_end")}
                 for r in csv.DictReader(f)}  # fmt: skip
 
 
 def _drft_along(name: str, model: str) -> dict[float, tuple[float, float]]:
-    with (FIG / name).open(newline="") as f:
+    with (OUT / name).open(newline="") as f:
         return {
             float(r["omega_rpm"]): (float(r["fx"]), float(r["fz"])) for r in csv.DictReader(f) if r["model"] == model
         }
@@ -663,7 +663,7 @@ def test_the_15_rpm_wheel_held_at_45_rpm_keeps_a_lasting_lift_gap():
     assert h["fz"] - g["fz"] == pytest.approx(5.83, abs=0.01) and 2.5 <= h["fz"] - g["fz"] <= 7.0
     long20 = _switch_rows("wheel_switch_20rpm_long.csv")
     assert h["fz"] - g["fz"] > long20[60.0]["fz"] - long20[20.0]["fz"] + 2.0  # more lasting lift at the slower state
-    with (FIG / "wheel_switch_15rpm_after_switch.csv").open(newline="") as f:
+    with (OUT / "wheel_switch_15rpm_after_switch.csv").open(newline="") as f:
         win = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
     by = {(r["omega_rpm"], r["t_start"]): r["fz"] for r in win}
     gaps = [by[45.0, t] - by[15.0, t] for t in (0.0, 0.3, 0.6, 0.9, 1.2, 1.5)]

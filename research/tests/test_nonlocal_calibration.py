@@ -2,7 +2,7 @@
 nonlocal law settled on the treadmill (research/notes/results_log.md, "Calibrated on the nonlocal-law wheel").
 
 The MPM points (2.5 mm cells, 30 and 90 RPM) are the committed ``*_steady.csv`` rows of
-``docs/figures/wheel_{30,90}rpm_nonlocal_treadmill``, turned into the sweep CSV that
+``research/outputs/wheel_{30,90}rpm_nonlocal_treadmill``, turned into the sweep CSV that
 ``intrusim calibrate`` reads by ``research/steady_to_sweep.py``. Recorded: xi = 1.94 (the paper's
 poppy seeds 0.35), v within 2.5 % and sinkage within 3.4 % at both omegas; the paper's DRFT
 (xi 0.35) is 96-111 % too deep with the 4 N push.
@@ -16,9 +16,9 @@ import pytest
 from intrusim.analysis.calibration import calibrate, compare, load_reference, with_mpm_push
 from intrusim.scenarios import grousered_wheel_scenario
 
-FIGURES = Path(__file__).resolve().parents[2] / "docs" / "figures"
-SWEEP = FIGURES / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv"
-STEADY = [FIGURES / f"wheel_{w}rpm_nonlocal_treadmill_steady.csv" for w in (30, 90)]
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+SWEEP = OUT / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv"
+STEADY = [OUT / f"wheel_{w}rpm_nonlocal_treadmill_steady.csv" for w in (30, 90)]
 
 
 def test_the_sweep_csv_is_the_steady_rows_of_the_2p5mm_runs(load_example, tmp_path):

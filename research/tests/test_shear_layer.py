@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-FIG = ROOT / "docs" / "figures"
+OUT = ROOT / "research" / "outputs"
 
 
 @pytest.fixture(scope="module")
@@ -53,8 +53,8 @@ def _column(rows, key):
 
 
 def test_committed_widths_follow_from_the_committed_profiles(script):
-    table = _rows(FIG / "shear_layer.csv")
-    profiles = _rows(FIG / "shear_layer_profiles.csv")
+    table = _rows(OUT / "shear_layer.csv")
+    profiles = _rows(OUT / "shear_layer_profiles.csv")
     assert len(table) >= 4
     for row in table:
         p = [q for q in profiles if float(q["cell_mm"]) == float(row["cell_mm"]) and q["series"] == row["series"]]
@@ -67,7 +67,7 @@ def test_committed_widths_follow_from_the_committed_profiles(script):
 def test_the_shear_localises_further_at_every_halving_of_the_cells():
     """research/notes/results_log.md: the fastest shearing near the wheel grows as h^-0.5 to h^-0.7 in every series,
     and under the grousered wheel the sheared layer thins at each halving: not converged in h."""
-    table = _rows(FIG / "shear_layer.csv")
+    table = _rows(OUT / "shear_layer.csv")
     series = {}
     for row in table:
         series.setdefault(row["series"], []).append(row)
@@ -91,7 +91,7 @@ def test_the_shear_localises_further_at_every_halving_of_the_cells():
 def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
     """research/notes/results_log.md item 5: with eta = 10 Pa s the layer keeps its width and the lift moves
     1.6 % from 2.5 to 1.25 mm, against 8 % for the paper's rate-independent law."""
-    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    rows = _keyed(_rows(OUT / "shear_layer.csv"))
     visc, plain = "grousered, eta 10 Pa s", "grousered"
     lift = _column(rows, "fz")
     assert abs(lift(visc, 1.25) / lift(visc, 2.5) - 1.0) < 0.03
@@ -106,7 +106,7 @@ def test_a_viscous_overstress_gives_the_held_wheel_a_converging_lift():
 def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertial_number_small():
     """research/notes/results_log.md item 6: with mu(I) (d = 1 mm) the fastest shear still grows at every halving
     and the lift still falls from 2.5 to 1.25 mm; under every held wheel the median I stays below 0.01."""
-    table = _rows(FIG / "shear_layer.csv")
+    table = _rows(OUT / "shear_layer.csv")
     rows = _keyed(table)
     name = "grousered, mu(I) d 1 mm"
     p99 = [float(rows[(name, h)]["gdot_p99"]) for h in (5.0, 2.5, 1.25)]
@@ -121,7 +121,7 @@ def test_mu_i_with_poppy_seed_grains_leaves_the_shear_localising_and_the_inertia
 def test_the_nonlocal_fluidity_keeps_the_layer_width_but_not_the_lift():
     """research/notes/results_log.md item 7: with the nonlocal fluidity the dragged layer stops thinning (1 mm grains
     -5 % from 2.5 to 1.25 mm, 3 mm grains within 3 % over 5-1.25 mm), while the lift rises 15-20 %."""
-    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    rows = _keyed(_rows(OUT / "shear_layer.csv"))
     width = _column(rows, "width_90_10_mm")
     lift = _column(rows, "fz")
     d1, d3 = "grousered, nonlocal d 1 mm", "grousered, nonlocal d 3 mm"
@@ -143,7 +143,7 @@ def test_with_the_nonlocal_fluidity_the_smooth_rim_converges_and_the_grousers_se
     the grousered wheel's deficit against the smooth rim about halves with the cells; neither the
     cooperativity length resolved by more cells (6 mm grains) nor half the time step stops the
     grousered wheel's rise."""
-    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    rows = _keyed(_rows(OUT / "shear_layer.csv"))
     lift = _column(rows, "fz")
 
     def steps(name):
@@ -183,7 +183,7 @@ def test_at_0625_mm_the_grousered_lift_converges_and_the_deficit_levels_off():
     0.625 mm the grousered lift rises 2.1 % (against 17.8 % at the halving before), and its deficit
     against the smooth rim keeps 0.90 of itself, so the registered prediction (53.2-55.3 N, a
     deficit falling to 0.53-0.73) missed: the wheel converges below the smooth rim."""
-    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    rows = _keyed(_rows(OUT / "shear_layer.csv"))
     lift = _column(rows, "fz")
     box, wide, smooth = (
         "grousered, 0.45 m x 0.4 m box, nonlocal d 6 mm",
@@ -205,7 +205,7 @@ def test_at_0625_mm_the_smooth_rim_holds_its_lift():
     """research/notes/results_log.md item 9, the smooth rim's registered check: with the nonlocal fluidity (6 mm
     grains) its 0.625 mm lift lies within 1 % of the 1.25 mm one, and the grousered wheel's deficit
     at equal cells stays at 9-10.5 N."""
-    rows = _keyed(_rows(FIG / "shear_layer.csv"))
+    rows = _keyed(_rows(OUT / "shear_layer.csv"))
     lift = _column(rows, "fz")
     smooth, grousered = (
         "smooth rim, 0.45 m x 0.4 m box, nonlocal d 6 mm",

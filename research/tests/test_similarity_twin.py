@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
-REFERENCE = (FIG / "wheel_30rpm_nonlocal_treadmill.csv", "5 mm, treadmill in 1 m", 30.0)
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+REFERENCE = (OUT / "wheel_30rpm_nonlocal_treadmill.csv", "5 mm, treadmill in 1 m", 30.0)
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,7 @@ def test_bands_out_of_order_or_not_positive_are_refused(script, similar, not_sim
     with pytest.raises(InputError, match="bands must be positive"):
         script.verdict(0.0, 0.0, similar, not_similar)
     with pytest.raises(InputError, match="bands must be positive"):  # before the CSVs are read
-        script.analyse(REFERENCE, (FIG / "missing.csv", "none", 42.4264), (3.5, 4.5), similar, not_similar)
+        script.analyse(REFERENCE, (OUT / "missing.csv", "none", 42.4264), (3.5, 4.5), similar, not_similar)
 
 
 def test_windows_that_are_not_the_reference_scaled_are_refused(script):
@@ -64,12 +64,12 @@ def test_a_twin_at_another_omega_over_omega_0_is_refused(script):
         script.analyse(REFERENCE, (REFERENCE[0], REFERENCE[1], 30.0), (3.5, 4.5))
 
 
-TWIN = (FIG / "small_wheel_42rpm_twin.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 42.4264)
+TWIN = (OUT / "small_wheel_42rpm_twin.csv", "small wheel, 2.5 mm, 3 mm grains, half box", 42.4264)
 
 
 def _against_reference(script, name: str, label: str) -> tuple[list[dict], dict]:
     """A half-size twin's committed windows (``name``, run ``label``) against the reference over 3.5-4.5 s."""
-    return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (3.5, 4.5))
+    return script.analyse(REFERENCE, (OUT / name, label, 42.4264), (3.5, 4.5))
 
 
 @pytest.fixture(scope="module")
@@ -212,7 +212,7 @@ STEADY_BANDS = dict(similar=(0.008, 0.004), not_similar=(0.015, 0.008))  # regis
 
 def _late(script, name: str, label: str) -> tuple[list[dict], dict]:
     """A twin carried to 6.05 s (``*_6s.csv``, whole windows only) against the reference over 6.0-8.5 s."""
-    return script.analyse(REFERENCE, (FIG / name, label, 42.4264), (6.0, 8.5), **STEADY_BANDS)
+    return script.analyse(REFERENCE, (OUT / name, label, 42.4264), (6.0, 8.5), **STEADY_BANDS)
 
 
 @pytest.fixture(scope="module")
@@ -280,7 +280,7 @@ def test_the_6_mm_twin_carried_to_6_s_holds_a_steady_grain_length_effect(script,
     twin has held 0.235-0.261 over the reference's 3.5-8.5 s while the 3 mm twin eased."""
     rows, res = script.analyse(
         REFERENCE,
-        (FIG / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264),
+        (OUT / "small_wheel_42rpm_twin_d6_6s.csv", "small wheel, 2.5 mm, 6 mm grains, half box", 42.4264),
         (6.0, 8.5),
     )
     tw, first = res["twin"], late_first[1]["twin"]

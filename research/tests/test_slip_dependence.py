@@ -13,10 +13,11 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-FIG = ROOT / "docs" / "figures"
+FIG = ROOT / "docs" / "figures"  # the sweeps the docs and tests/ use
+OUT = ROOT / "research" / "outputs"  # what the research scripts wrote
 
 
-VARIANTS = [FIG / "wheel_load.csv", FIG / "wheel_lugs.csv", FIG / "wheel_push.csv"]
+VARIANTS = [OUT / "wheel_load.csv", OUT / "wheel_lugs.csv", OUT / "wheel_push.csv"]
 
 
 @pytest.fixture(scope="module")
@@ -91,7 +92,7 @@ def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series(s
     quad = script.slip_sinkage(rows)
     miss = np.array([np.polyval(quad, r["slip"]) * r["radius"] / r["sinkage"] - 1.0 for r in rows])
     assert np.max(np.abs(miss)) < 0.15  # -13.1 % to +14.5 %
-    registered = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]  # 5c3b000
+    registered = json.loads((OUT / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]  # 5c3b000
     assert np.allclose(registered, quad[::-1], rtol=1e-9)
     # against the omega-only picture: the 30 RPM Table S1 runs alone span 3x in sinkage
     at30 = [r["sinkage"] for r in rows if r["omega_rpm"] == 30.0 and r["radius"] > 0.1]
@@ -100,8 +101,8 @@ def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series(s
 
 def test_the_four_flap_runner_sits_off_the_wheels_curve(script):
     """The curve is the grousered wheels': the runner sinks 1.8-2.3x deeper at its slips."""
-    runner = [FIG / "mpm_runner_2p5mm" / band / "four_flap_runner_mpm_sweep.csv" for band in ("band0", "band1")]
+    runner = [OUT / "mpm_runner_2p5mm" / band / "four_flap_runner_mpm_sweep.csv" for band in ("band0", "band1")]
     rows, _ = script.analyse(runner, [])
-    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    c0, c1, c2 = json.loads((OUT / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
     ratio = np.array([r["sinkage"] / r["radius"] / (c0 + c1 * r["slip"] + c2 * r["slip"] ** 2) for r in rows])
     assert len(rows) == 10 and np.all(ratio > 1.5)

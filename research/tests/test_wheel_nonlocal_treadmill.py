@@ -10,14 +10,14 @@ from pathlib import Path
 
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
 LONG = "5 mm, 2.5 m box"
 TREADMILLS = ("5 mm, treadmill in 0.8 m", "5 mm, treadmill in 1 m")
 FINE = "2.5 mm, treadmill in 1 m from 2.75 s"
 
 
 def _rows(name):
-    with (FIG / name).open(newline="") as f:
+    with (OUT / name).open(newline="") as f:
         return list(csv.DictReader(f))
 
 
@@ -117,7 +117,7 @@ def test_the_nonlocal_wheels_sit_on_the_slip_sinkage_curve_of_the_papers_law():
     slip within -4.8 to +1.4 %: 2.5 mm at 30 and 90 RPM, and the three 5 mm runs over 5-10 s."""
     import json
 
-    c0, c1, c2 = json.loads((FIG / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
+    c0, c1, c2 = json.loads((OUT / "slip_dependence.json").read_text())["slip_sinkage_c0_c1_c2"]
     r = 0.10604  # m, the Table S1 wheel's outer radius (grouser tips)
     steady = {
         **_steady("wheel_30rpm_nonlocal_treadmill_steady.csv"),

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import pytest
 
-FIG = Path(__file__).resolve().parents[2] / "docs" / "figures"
-D6 = ("wheel", FIG / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv", 6e-3)
-D12 = ("wheel", FIG / "mpm_nonlocal_d12" / "grousered_wheel_mpm_sweep.csv", 12e-3)
-SMALL = ("small-wheel", FIG / "mpm_nonlocal_fine_all" / "small_grousered_wheel_mpm_sweep.csv", 6e-3)
+OUT = Path(__file__).resolve().parents[2] / "research" / "outputs"
+D6 = ("wheel", OUT / "mpm_nonlocal" / "grousered_wheel_mpm_sweep.csv", 6e-3)
+D12 = ("wheel", OUT / "mpm_nonlocal_d12" / "grousered_wheel_mpm_sweep.csv", 12e-3)
+SMALL = ("small-wheel", OUT / "mpm_nonlocal_fine_all" / "small_grousered_wheel_mpm_sweep.csv", 6e-3)
 
 
 @pytest.fixture(scope="module")
@@ -25,7 +25,7 @@ def script(load_example):
 
 @pytest.fixture(scope="module")
 def committed():
-    return json.loads((FIG / "xi_grain_length.json").read_text())
+    return json.loads((OUT / "xi_grain_length.json").read_text())
 
 
 def test_the_12mm_wheel_needs_about_twice_the_6mm_wheels_xi(script, committed):
