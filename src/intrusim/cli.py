@@ -181,21 +181,33 @@ def sweep(
     lam: Optional[float] = typer.Option(None, help="lambda of the inertial correction."),
     parallel: bool = typer.Option(True, help="Run the points on a Dask cluster."),
     scheduler_address: Optional[str] = typer.Option(None, help="Existing Dask scheduler (default: a LocalCluster)."),
-    csv: Optional[Path] = typer.Option(None, help="Also write the records to this CSV file."),
+    csv: Optional[Path] = typer.Option(
+        None, help="Also write the records to this CSV file (SI, the unit in each column: velocity_m_s, sinkage_m ...)."
+    ),
     rft_coefficients: Optional[Path] = typer.Option(
         None,
         help="RFT coefficient table (JSON/TOML, N/cm^3; e.g. measured on the MPM medium by examples/mpm_rft_map.py) in place of the generic one, used as it is (xi = 1).",
     ),
+    workers: Optional[int] = typer.Option(
+        None,
+        min=1,
+        help="Points at once: processes of the local Dask cluster (default: one per core; 1: in this process).",
+    ),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
+    import os
+
     from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.scenarios import load_scenario
 
     try:
+        if workers is not None and workers > (os.cpu_count() or 1):
+            raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
         kind, scn = with_model(model, load_scenario(scenario), rft_coefficients)
         res = sweep_omega(
-            scn, kind, omega_list(omega_rpm), lam=lam, parallel=parallel, scheduler_address=scheduler_address
-        )
+            scn, kind, omega_list(omega_rpm), lam=lam, parallel=parallel and workers != 1,
+            scheduler_address=scheduler_address, n_workers=workers,
+        )  # fmt: skip
     except InputError as err:
         _fail(err)
     typer.echo(f"{scn.name}, {_model_name(model, kind)}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
@@ -228,16 +240,24 @@ def reproduce(
         "--set",
         help="KEY=VALUE, repeatable: an MPM setting of the runs the figure draws (as `mpm sweep --set`, e.g. contact_band=0).",
     ),
+    workers: Optional[int] = typer.Option(
+        None,
+        min=1,
+        help="MPM runs at once, each in a worker process on cores / WORKERS threads (default: one per core, up to the runs to make; 1: one after another in this process).",
+    ),
 ) -> None:
     """Reproduce one of the paper's figures (PNG + CSV of the plotted numbers).
 
     RFT/DRFT: fig4b, fig5ab, fig6a, fig7bc, figs1. MPM (runs the continuum solver, or reuses
     finished run folders under --runs): fig3ab, fig3cd, fig5c, fig5d, fig6a-mpm, figs3b, and --mpm on the others.
     The MPM runs are those of the quick or paper settings with --settings and --set applied; a
-    run folder or sweep CSV under --runs recorded with other settings is refused.
+    run folder or sweep CSV under --runs recorded with other settings is refused. Each MPM run
+    prints its progress (simulated time reached, ETA) every few seconds.
     """
+    import os
+
     from intrusim.figures import FIGURES
-    from intrusim.figures.mpm import applying_settings, check_figure_settings
+    from intrusim.figures.mpm import applying_settings, check_figure_settings, running_workers
     from intrusim.scenarios.mpm_settings import check_keys, settings_items
 
     items = settings_items(settings, sets)
@@ -246,9 +266,13 @@ def reproduce(
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
     if name is not None and (not name or Path(name).name != name):
         _fail(InputError(f"--name must be a plain file name stem, got {name!r}"))
+    if workers is not None and workers > (os.cpu_count() or 1):
+        _fail(InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores"))
+    if workers is not None and workers > 1 and not parallel:
+        _fail(InputError(f"--workers {workers} runs MPM runs at once: not with --no-parallel (or give --workers 1)"))
     if items:  # and a bad value, over the base settings of the figure's MPM cases
         check_figure_settings(figure, quick, items)
-    with applying_settings(items):
+    with applying_settings(items), running_workers(workers):
         if name is None:
             paths = FIGURES[figure](out, quick=quick, parallel=parallel, runs=runs, mpm=mpm)
         else:

@@ -150,15 +150,20 @@ def sweep(
     out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),
     settings: Path = typer.Option(None, "--settings", help=SETTINGS_HELP),
     sets: list[str] = typer.Option([], "--set", help=SET_HELP),
-    workers: int = typer.Option(2, help="Dask worker processes (each runs Taichi on cores/workers threads)."),
+    workers: int = typer.Option(
+        2,
+        help="MPM runs at once, each in a Dask worker process on cores / workers threads (at most the points; "
+        "1: one after another in this process).",
+    ),
     scheduler: str = typer.Option(None, help="Address of an existing Dask scheduler (default: a local cluster)."),
-    serial: bool = typer.Option(False, help="Run the points one after another in this process."),
+    serial: bool = typer.Option(False, help="Run the points one after another in this process (as --workers 1)."),
     oversubscribe: bool = typer.Option(
         False, "--oversubscribe", help="Allow more --workers than this machine's cores."
     ),
 ) -> None:
     """An omega sweep of MPM runs on a Dask cluster; writes SCENARIO_mpm_sweep.csv in --out (and the
-    runs' settings beside it, SCENARIO_mpm_sweep.settings.json) and prints a table.
+    runs' settings beside it, SCENARIO_mpm_sweep.settings.json) and prints a table. Each run prints
+    its progress (simulated time reached, speed, ETA) every few seconds, and a line when it ends.
     Exit code 1 if a point failed (the others are kept in the CSV and their run folders)."""
     import os
 
@@ -179,7 +184,9 @@ def sweep(
                 f"--workers {workers} is more than this machine's {cores} cores "
                 "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)"
             )
-        threads = max(1, cores // workers) if not serial else None
+        at_once = min(workers, len(omegas))  # a local cluster of more workers than points: idle cores
+        serial = serial or (at_once == 1 and scheduler is None)  # one at a time: in this process
+        threads = max(1, cores // at_once) if not serial else None
         case = _case(scenario, quick, out, settings, sets, threads)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # each point's run folder name and run (grid, steps, fit), checked before any compute
@@ -188,7 +195,7 @@ def sweep(
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None
-    res = sweep_omega(case, "mpm", omegas, parallel=not serial, scheduler_address=scheduler, n_workers=workers)
+    res = sweep_omega(case, "mpm", omegas, parallel=not serial, scheduler_address=scheduler, n_workers=at_once)
     path = res.to_csv(csv_path)
     write_record(csv_path, case.scenario.name, {w: case.mpm for w in omegas})
     typer.echo(res.table())

@@ -135,3 +135,101 @@ def test_omega_rad_s_has_the_packages_sign_and_reads_back_as_the_records_omega(t
     assert a.records[0]["omega"] == 3.14159 and b.column("omega_rad_s")[0] == -3.14159
     assert "omega_rad_s" in b.to_csv(tmp_path / "again.csv").read_text().splitlines()[0]
     assert b.to_csv(tmp_path / "again.csv").read_text().splitlines()[1].split(",")[1] == "-3.14159"
+
+
+# ---------------------------------------------------------------- each run's progress, runs at once
+
+
+def test_each_run_of_a_sweep_reports_its_time_speed_and_eta(tmp_path, monkeypatch, capsys):
+    from intrusim.figures.mpm import mpm_sweep
+
+    monkeypatch.setattr(ml, "run_mpm_steady", fake_mpm_run)
+    res = mpm_sweep(get_scenario("wheel"), np.array([30.0, 60.0]), True, True, tmp_path, workers=1)
+    assert [r["ok"] for r in res.records] == [True, True]
+    err = capsys.readouterr().err
+    for w in (30, 60):
+        lines = [line for line in err.splitlines() if line.startswith(f"grousered_wheel {w} RPM: ")]
+        assert lines[0].endswith(f"running to t = 1.2 s in {tmp_path / f'grousered_wheel_{w}rpm'}"), err
+        # the first report at the mean rate (6 s of wall for 0.3 s), then at the rate since it (6 s / 0.3 s)
+        assert lines[1] == f"grousered_wheel {w} RPM: t 0.30/1.20 s, v 0.100 m/s, wall 6 s, ETA 18 s", err
+        assert lines[2] == f"grousered_wheel {w} RPM: t 0.60/1.20 s, v 0.110 m/s, wall 12 s, ETA 12 s", err
+        assert lines[4].endswith("t 1.20/1.20 s, v 0.130 m/s, wall 24 s, ETA 0 s"), err
+        assert "done (" in lines[5] and "v 0.1000 m/s, sinkage 20.00 mm" in lines[5], err
+    assert "done (1 of 2)" in err and "done (2 of 2)" in err and "1 at once" in err
+    assert "omega sweep" not in err  # no bar of the points: the runs' own lines
+
+    capsys.readouterr()
+    again = mpm_sweep(get_scenario("wheel"), np.array([30.0]), True, True, tmp_path, workers=1)
+    err = capsys.readouterr().err  # a finished run is reused (the fake left no time series to read: a failed row)
+    assert "grousered_wheel 30 RPM: finished before, reused" in err and "FAILED (1 of 1 done)" in err
+    assert not again.records[0]["ok"] and "timeseries.csv" in again.records[0]["error"]
+
+
+def test_a_run_reports_at_most_every_few_seconds_and_from_a_worker_process(capfd):
+    import pickle
+
+    from intrusim.analysis.sweep import RunProgress, dask_map
+
+    p = RunProgress("my_wheel 30 RPM", 1.2, every=5.0)
+    for t, wall in ((0.1, 1.0), (0.2, 2.0), (0.3, 7.0), (0.4, 9.0), (0.5, 12.5)):
+        p({"t": t, "x": 0.0, "z": 0.0, "vx": 0.12, "wall": wall})
+    lines = capfd.readouterr().err.splitlines()
+    assert [line.split(",")[0] for line in lines] == ["my_wheel 30 RPM: t 0.10/1.20 s", "my_wheel 30 RPM: t 0.30/1.20 s",
+                                                      "my_wheel 30 RPM: t 0.50/1.20 s"]  # fmt: skip
+    assert lines[0].endswith("ETA 11 s") and lines[1].endswith("ETA 27 s")  # 1 s per 0.1 s; then 6 s per 0.2 s
+
+    # in a worker process of a local cluster: the same lines, on this terminal
+    q = pickle.loads(pickle.dumps(RunProgress("my_wheel 60 RPM", 1.2)))
+    done = []
+    dask_map(
+        q, [({"t": 0.6, "vx": 0.2, "wall": 30.0},)], n_workers=1, progress=False, on_done=lambda i, r: done.append(i)
+    )
+    assert done == [0]
+    assert "my_wheel 60 RPM: t 0.60/1.20 s, v 0.200 m/s, wall 30 s, ETA 30 s" in capfd.readouterr().err
+
+
+def test_workers_is_the_number_of_runs_at_once(tmp_path, monkeypatch):
+    import os
+
+    from intrusim._checks import InputError
+    from intrusim.figures import mpm as figmpm
+
+    cores = os.cpu_count() or 1
+    assert figmpm.run_count(None, True, 50) == cores and figmpm.run_count(None, True, 1) == 1
+    assert (
+        figmpm.run_count(3, True, 2) == 2 and figmpm.run_count(3, True, 9) == 3 and figmpm.run_count(4, False, 9) == 1
+    )
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(InputError, match="workers"):
+            figmpm.run_count(bad, True, 3)
+    seen = {}
+
+    def fake_sweep(case, kind, rpm, *, parallel, n_workers, progress):
+        seen.update(parallel=parallel, n_workers=n_workers, threads=case.mpm.cpu_threads)
+        return SweepResult(case.name, kind, None, [])
+
+    monkeypatch.setattr(figmpm, "sweep_omega", fake_sweep)
+    figmpm.mpm_sweep_table(get_scenario("wheel"), [10, 20, 30], True, tmp_path, [], tmp_path / "t.csv", workers=2)
+    assert seen == {"parallel": True, "n_workers": 2, "threads": max(1, cores // 2)}
+    with figmpm.running_workers(1):  # reproduce --workers 1
+        figmpm.mpm_sweep(get_scenario("wheel"), np.array([10.0, 20.0]), True, True, tmp_path)
+    assert seen["parallel"] is False and seen["n_workers"] == 1
+    with pytest.raises(InputError, match="workers"):
+        figmpm.mpm_sweep(get_scenario("wheel"), np.array([10.0]), True, True, tmp_path, workers=0)
+
+
+def test_reproduce_and_sweep_refuse_a_bad_workers(tmp_path):
+    import os
+
+    many = (os.cpu_count() or 1) + 1
+    runner = CliRunner()
+    for args in (["reproduce", "fig3ab", "--quick", "--runs", str(tmp_path), "--out", str(tmp_path)],
+                 ["sweep", "--model", "rft", "--omega-rpm", "30", "--no-parallel"]):  # fmt: skip
+        r = runner.invoke(app, [*args, "--workers", "0"])
+        assert r.exit_code == 2 and not list(tmp_path.glob("*.png")), r.output
+        r = runner.invoke(app, [*args, "--workers", str(many)])
+        assert r.exit_code == 2 and "cores" in r.output, r.output
+    r = runner.invoke(
+        app, ["reproduce", "fig3ab", "--quick", "--no-parallel", "--workers", "2", "--out", str(tmp_path)]
+    )
+    assert r.exit_code == 2 and "--no-parallel" in r.output, r.output

@@ -5,6 +5,10 @@ run in parallel on a local Dask ``distributed`` cluster (processes, one worker p
 ``scheduler_address`` to use an existing cluster, or ``parallel=False`` for a plain loop (used by
 the tests). A point that fails (bad input, integrator failure, no contact) becomes an error record;
 every other point is still returned.
+
+Progress: a bar of the points done; an MPM sweep (kind "mpm") prints instead each run's own
+progress (:class:`RunProgress`: the simulated time reached, the speed, an ETA; one line every few
+seconds a run) and a line as each run ends, on stderr, from whichever process runs it.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -73,15 +78,106 @@ def omega_list(text: str) -> list[float]:
     return out
 
 
-def sweep_point(scenario: Any, kind: str, omega_rpm: float, lam: float | None) -> dict[str, Any]:
+PROGRESS_EVERY = 5.0  # s of wall time between two progress lines of one run
+
+
+def _duration(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return "?"
+    if seconds < 100.0:
+        return f"{seconds:.0f} s"
+    return f"{seconds / 60.0:.0f} min" if seconds < 6000.0 else f"{seconds / 3600.0:.1f} h"
+
+
+class RunProgress:
+    """One run's progress lines on stderr: the ``progress`` callable of
+    :func:`~intrusim.scenarios.mpm_locomotion.run_mpm_steady` (it gets t, x, z, vx and wall, the
+    run's wall time, at each chunk's end), e.g. ``grousered_wheel 30 RPM: t 0.45/1.20 s, v 0.120 m/s,
+    wall 35 s, ETA 58 s``, the first report and then at most one line every ``every`` seconds.
+
+    The ETA is the simulated time left at the rate since the first report (the solver's start-up
+    and compile come before it), or at the mean rate at the first. Picklable: it travels with its
+    point to a worker process, which prints it (a local cluster's workers write to this terminal).
+    """
+
+    def __init__(self, label: str, t_max: float, every: float = PROGRESS_EVERY) -> None:
+        self.label, self.t_max, self.every = label, float(t_max), float(every)
+        self._first: tuple[float, float] | None = None  # (t, wall) at the first report
+        self._shown = -math.inf  # wall time of the last line
+
+    def eta(self, t: float, wall: float) -> float:
+        """Seconds of wall time left to ``t_max`` at simulated time ``t`` and wall time ``wall``."""
+        t0, w0 = self._first or (t, wall)
+        rate = (wall - w0) / (t - t0) if t > t0 else wall / t if t > 0.0 else math.nan
+        return max(0.0, self.t_max - t) * rate
+
+    def line(self, t: float, wall: float, vx: float) -> str:
+        return (
+            f"{self.label}: t {t:.2f}/{self.t_max:.2f} s, v {vx:.3f} m/s, wall {_duration(wall)}, "
+            f"ETA {_duration(self.eta(t, wall))}"
+        )
+
+    def say(self, text: str) -> None:
+        print(f"{self.label}: {text}", file=sys.stderr, flush=True)
+
+    def __call__(self, d: dict[str, float]) -> None:
+        t, wall = float(d["t"]), float(d["wall"])
+        if self._first is None:
+            self._first = (t, wall)
+        elif wall - self._shown < self.every:
+            return
+        self._shown = wall
+        print(self.line(t, wall, float(d.get("vx", math.nan))), file=sys.stderr, flush=True)
+
+
+def run_progress(scenario: Any, kind: str, omega_rpm: float) -> RunProgress | None:
+    """The :class:`RunProgress` of one point of an MPM case (kind "mpm", an
+    :class:`~intrusim.scenarios.mpm_locomotion.MPMLocomotion`); None for other models (a point of
+    theirs takes seconds)."""
+    mpm = getattr(scenario, "mpm", None)
+    if kind != "mpm" or mpm is None:
+        return None
+    name = getattr(getattr(scenario, "scenario", None), "name", scenario.name)
+    return RunProgress(f"{name} {omega_rpm:g} RPM", mpm.t_max)
+
+
+def mpm_steady(case: Any, omega_rpm: float, progress: RunProgress) -> Any:
+    """``case.run_steady("mpm", omega_rpm)`` of an MPMLocomotion ``case`` (one writer per run folder,
+    a finished run reused or extended, ``result.json`` written at the end), with ``progress`` given
+    to :func:`~intrusim.scenarios.mpm_locomotion.run_mpm_steady`."""
+    from intrusim.mpm.io import refuse_other_run, run_lock
+    from intrusim.scenarios import mpm_locomotion as ml
+
+    out = case.run_dir(omega_rpm)
+    with run_lock(out):  # one writer per run folder
+        if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
+            if not refuse_other_run(out, ml.mpm_config(case.scenario, case.mpm, omega_rpm, out)):
+                progress.say(f"finished before, reused ({out})")
+                return ml.load_result(out, case.mpm, case.scenario.body)
+            (out / "result.json").unlink()  # extended: the folder is unfinished until the longer run ends
+        progress.say(f"running to t = {case.mpm.t_max:g} s" + ("" if out is None else f" in {out}"))
+        st = ml.run_mpm_steady(case.scenario, case.mpm, omega_rpm, out, progress)
+        if out is not None:
+            ml.write_result(out, st)
+    return st
+
+
+def sweep_point(
+    scenario: Any, kind: str, omega_rpm: float, lam: float | None, progress: RunProgress | None = None
+) -> dict[str, Any]:
     """One steady state as a flat record; failures of the point (bad input, a guard, no contact, a
     full disk) are caught and described; a programming error (:data:`~intrusim.errors.PROGRAMMING_ERRORS`)
-    is raised, never turned into a data row."""
+    is raised, never turned into a data row. ``progress``: the run's progress lines (an MPM case)."""
     rec: dict[str, Any] = {"omega_rpm": omega_rpm, "ok": False, "error": ""}
     try:
         # a scenario may carry its own runner (MPMLocomotion: the continuum solver)
         runner = getattr(scenario, "run_steady", None)
-        st = runner(kind, omega_rpm, lam) if runner is not None else run_steady(scenario, kind, omega_rpm, lam)
+        if progress is not None and kind == "mpm":
+            st = mpm_steady(scenario, omega_rpm, progress)
+        elif runner is not None:
+            st = runner(kind, omega_rpm, lam)
+        else:
+            st = run_steady(scenario, kind, omega_rpm, lam)
     except Exception as err:  # noqa: BLE001 - one bad point must not sink the sweep
         if isinstance(err, PROGRAMMING_ERRORS):
             raise
@@ -207,12 +303,14 @@ def _csv_row(rec: dict[str, Any]) -> dict[str, Any]:
 def dask_map(
     fn: Callable[..., Any], args: Sequence[tuple], *, scheduler_address: str | None = None, n_workers: int | None = None,
     progress: bool = True, desc: str = "tasks", on_error: Callable[[int, Exception], Any] | None = None,
+    on_done: Callable[[int, Any], None] | None = None,
 ) -> list[Any]:  # fmt: skip
     """``[fn(*a) for a in args]`` on a Dask cluster, in the order of ``args``.
 
     None for ``scheduler_address`` starts a LocalCluster of ``n_workers`` processes (default: one
     per core, one thread each) for this call. A task whose result cannot be had (an exception in
     ``fn``, a lost worker) raises, or becomes ``on_error(i, err)`` when that is given.
+    ``on_done(i, result)`` is called as each task ends (in the order they end).
     """
     from dask.distributed import Client, LocalCluster, as_completed
 
@@ -237,6 +335,8 @@ def dask_map(
                 if on_error is None:
                     raise
                 out[i] = on_error(i, err)
+            if on_done is not None:
+                on_done(i, out[i])
             bar.update(1)
         bar.close()
         return out
@@ -258,6 +358,17 @@ def _error_record(omega_rpm: float, err: Exception) -> dict[str, Any]:
     if isinstance(err, PROGRAMMING_ERRORS):
         raise err
     return {"omega_rpm": omega_rpm, "ok": False, "error": f"{type(err).__name__}: {err}"}
+
+
+def _done_line(rec: dict[str, Any], done: int, total: int) -> str:
+    """A finished point of an MPM sweep, as :class:`RunProgress` labels it has ended."""
+    if not rec["ok"]:
+        return f"FAILED ({done} of {total} done): {rec['error']}"
+    wall = f", wall {_duration(rec['wall_time'])}" if "wall_time" in rec else ""
+    return (
+        f"done ({done} of {total}): v {rec['velocity']:.4f} m/s, sinkage {rec['sinkage'] * 1e3:.2f} mm, "
+        f"slip {rec['slip']:.3f}{wall}{'' if rec.get('settled', True) else ', NOT settled'}"
+    )
 
 
 def sweep_omega(
@@ -282,24 +393,36 @@ def sweep_omega(
     parallel : run on Dask (default) or in a plain loop.
     scheduler_address : address of an existing Dask scheduler (e.g. "tcp://host:8786");
         None starts a LocalCluster of ``n_workers`` processes (default: one per core).
-    progress : show a tqdm progress bar.
+    progress : show a tqdm bar of the points; for an MPM case (kind "mpm") each run's own progress
+        lines instead (:class:`RunProgress`) and a line as each run ends, on stderr.
     """
     omegas = [float(w) for w in omega_rpm]
     if not omegas:
         raise InputError("omega_rpm is empty: give at least one angular velocity")
     if kind not in scenario.supported_models:
         raise InputError(f"scenario {scenario.name!r} supports {list(scenario.supported_models)}, got {kind!r}")
+    reporters = [run_progress(scenario, kind, w) if progress else None for w in omegas]
+    lines = any(r is not None for r in reporters)  # per-run lines, not a bar
+    finished = [0]
+
+    def done(i: int, rec: dict[str, Any]) -> None:
+        finished[0] += 1
+        if reporters[i] is not None:
+            reporters[i].say(_done_line(rec, finished[0], len(omegas)))  # type: ignore[union-attr]
+
     if parallel:
         records = dask_map(
-            sweep_point, [(scenario, kind, w, lam) for w in omegas], scheduler_address=scheduler_address,
-            n_workers=n_workers, progress=progress, desc="omega sweep",
-            on_error=lambda i, err: _error_record(omegas[i], err),
+            sweep_point, [(scenario, kind, w, lam, r) for w, r in zip(omegas, reporters)],
+            scheduler_address=scheduler_address, n_workers=n_workers, progress=progress and not lines,
+            desc="omega sweep", on_error=lambda i, err: _error_record(omegas[i], err), on_done=done if lines else None,
         )  # fmt: skip
     else:
-        bar = _bar(len(omegas), progress)
+        bar = _bar(len(omegas), progress and not lines)
         records = []
-        for w in omegas:
-            records.append(sweep_point(scenario, kind, w, lam))
+        for i, (w, r) in enumerate(zip(omegas, reporters)):
+            records.append(sweep_point(scenario, kind, w, lam, r))
+            if lines:
+                done(i, records[-1])
             bar.update(1)
         bar.close()
     return SweepResult(scenario.name, kind, lam, records, meta={"parallel": parallel})

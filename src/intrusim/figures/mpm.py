@@ -42,6 +42,9 @@ MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 # (key, value) settings applied over the quick or paper settings of every MPM case of a figure
 # (`intrusim reproduce --settings/--set`; :func:`applying_settings`)
 _SETTINGS: list[tuple[str, Any]] = []
+# MPM runs at once of the figures' sweeps (`intrusim reproduce --workers`; :func:`running_workers`);
+# None: one per core, up to the runs to make
+_WORKERS: list[int | None] = [None]
 
 # the scenarios of each figure's MPM cases (their base settings: base_settings of the body at the
 # scenario's mpm_scale); a figure not named here draws none (its --set values are checked on the wheel's)
@@ -71,6 +74,30 @@ def applying_settings(items: list[tuple[str, Any]]) -> Iterator[None]:
         yield
     finally:
         _SETTINGS[:] = saved
+
+
+@contextmanager
+def running_workers(workers: int | None) -> Iterator[None]:
+    """Within this block the figures' MPM sweeps make ``workers`` runs at once (:func:`mpm_sweep`;
+    None: one per core, up to the runs to make)."""
+    saved = _WORKERS[0]
+    _WORKERS[0] = workers
+    try:
+        yield
+    finally:
+        _WORKERS[0] = saved
+
+
+def run_count(workers: int | None, parallel: bool, missing: int) -> int:
+    """How many MPM runs go at once: ``workers`` (None: one per core), at most the ``missing`` runs
+    to make, 1 without ``parallel``. An InputError for ``workers`` < 1."""
+    import os
+
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"workers (MPM runs at once) must be an integer >= 1, got {workers!r}")
+    if not parallel:
+        return 1
+    return max(1, min(missing, workers if workers is not None else os.cpu_count() or 1))
 
 
 def runs_root(runs: Path | None, quick: bool) -> Path:
@@ -122,16 +149,27 @@ def check_sweep_csv(case: MPMLocomotion, table: Path, omegas: np.ndarray) -> Non
 
 
 def mpm_sweep(
-    scenario: LocomotorScenario, rpm: np.ndarray, quick: bool, parallel: bool, runs: Path | None
+    scenario: LocomotorScenario,
+    rpm: np.ndarray,
+    quick: bool,
+    parallel: bool,
+    runs: Path | None,
+    workers: int | None = None,
 ) -> SweepResult:
     """MPM steady states at ``rpm``: the finished run folders under the runs root; if some are
     missing and the root holds ``SCENARIO_mpm_sweep.csv`` (as ``intrusim mpm sweep`` and
     ``research/mpm_contact_band.py sweep`` write it), that file's finished rows, whatever their
-    omegas; otherwise the missing runs are run (and reused next time)."""
+    omegas; otherwise the missing runs are run (and reused next time), each printing its progress.
+
+    ``workers``: MPM runs at once (None: :func:`running_workers`' number, else one per core; at most
+    the runs to make), each in a worker process on cores / workers threads; 1, or ``parallel``
+    False, runs them one after another in this process."""
     import os
 
     from intrusim.analysis.calibration import load_reference
 
+    wanted = workers if workers is not None else _WORKERS[0]
+    run_count(wanted, parallel, 1)  # a bad number is refused before anything is looked at
     case = mpm_case(scenario, quick, runs)
     for w in rpm:  # a finished or interrupted run of other settings is refused, not reused or extended
         check_run_folder(case, w)
@@ -146,29 +184,37 @@ def mpm_sweep(
             file=sys.stderr,
         )
         return res
+    n = run_count(wanted, parallel, len(missing))
     if missing:
         print(
             f"{scenario.name}: {len(missing)} of {len(rpm)} MPM runs not finished under {case.out_root}; running them "
-            f"({', '.join(f'{w:g}' for w in missing)} RPM; a run stopped midway resumes from its last checkpoint)",
+            f"({', '.join(f'{w:g}' for w in missing)} RPM; {n} at once; a run stopped midway resumes from its last "
+            "checkpoint)",
             file=sys.stderr,
         )
-    if parallel and len(missing) > 1:
-        workers = min(len(missing), os.cpu_count() or 1)
+    if n > 1:
         case = case.model_copy(
-            update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // workers))))
+            update=dict(mpm=case.mpm.model_copy(update=dict(cpu_threads=max(1, (os.cpu_count() or 1) // n))))
         )
-    return sweep_omega(case, "mpm", list(rpm), parallel=parallel and len(missing) > 1, progress=True)
+    return sweep_omega(case, "mpm", list(rpm), parallel=n > 1, n_workers=n, progress=True)
 
 
 def mpm_sweep_table(
-    scenario: LocomotorScenario, rpm: Any, quick: bool, runs: Path | None, items: list[tuple[str, Any]], csv: Path
+    scenario: LocomotorScenario,
+    rpm: Any,
+    quick: bool,
+    runs: Path | None,
+    items: list[tuple[str, Any]],
+    csv: Path,
+    workers: int | None = None,
 ) -> SweepResult:
     """:func:`mpm_sweep` of ``scenario`` at ``rpm`` with the settings ``items`` over its quick or paper
     ones, its table written to ``csv`` and the runs' settings beside it (``CSV.settings.json``, as
-    ``intrusim mpm sweep`` writes them), for ``intrusim calibrate --mpm`` and the reference set."""
+    ``intrusim mpm sweep`` writes them), for ``intrusim calibrate --mpm`` and the reference set.
+    ``workers``: MPM runs at once (:func:`mpm_sweep`; 1: one after another in this process)."""
     rpm = np.asarray(rpm, float)
     with applying_settings(items):
-        res = mpm_sweep(scenario, rpm, quick, True, runs)
+        res = mpm_sweep(scenario, rpm, quick, True, runs, workers)
         case = mpm_case(scenario, quick, runs)
     csv.parent.mkdir(parents=True, exist_ok=True)
     res.to_csv(csv)
