@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any, Optional
 
@@ -144,7 +143,7 @@ def steady(
 def with_model(model: str, scn: Any, rft_coefficients: Optional[Path]) -> tuple[str, Any]:
     """The kind and scenario of ``--model`` (a kind, or a model file's kind and force model) and
     ``--rft-coefficients`` (not with a model file, which names its own table)."""
-    from intrusim.analysis.model_file import resolve_model
+    from intrusim.analysis.model_file import resolve_model, with_rft_table
 
     kind, out = resolve_model(model, scn)
     if out is not scn and rft_coefficients is not None:
@@ -154,23 +153,6 @@ def with_model(model: str, scn: Any, rft_coefficients: Optional[Path]) -> tuple[
 
 def _model_name(model: str, kind: str) -> str:
     return kind if model == kind else f"{kind} of {model}"
-
-
-def with_rft_table(scn: Any, path: Optional[Path]) -> Any:
-    """The scenario with its RFT coefficient table read from ``path`` and xi = 1 (None: unchanged).
-
-    A measured table is the medium's own, so it is used as it is (a calibration may still fit
-    xi, a scale of it, from 1). The path is kept as given (relative to the working folder, as
-    the sweep's local workers see it) and read once here, so a missing or malformed file fails
-    before any compute.
-    """
-    if path is None:
-        return scn
-    from intrusim.laws.rft import load_coefficients
-
-    load_coefficients(path)
-    fm = scn.force_model.validated_copy(rft_coefficients=str(path), xi=1.0)
-    return scn.validated_copy(force_model=fm)
 
 
 @app.command()
@@ -399,203 +381,20 @@ def calibrate(
     calibrated model, which `intrusim steady|sweep --model NAME.model.json` runs on any body. Without
     --mpm it first makes the scenario's MPM runs (resumable; a finished run is reused) and keeps their
     table as NAME_mpm.csv (their settings beside it, NAME_mpm.settings.json)."""
-    from intrusim.analysis.calibration import calibrate as fit
-    from intrusim.analysis.calibration import check_reference, load_reference, with_mpm_push, with_parameters
-    from intrusim.analysis.calibration import leave_one_out as cross_validate
-    from intrusim.figures.calibration import Check, psi_from_surface_drop, write_calibration
-    from intrusim.scenarios import load_scenario
+    from intrusim.analysis.calibration_job import CalibrationJob, run_calibration
 
+    job = CalibrationJob(
+        scenario=scenario, mpm=mpm, mpm_omegas=mpm_omegas, quick=quick, runs=runs, settings=settings, sets=list(sets),
+        params=params, fix=list(fix), structural=structural, mpm_push=mpm_push, psi_from_dh=psi_from_dh,
+        check=list(check), model=model, settled_only=settled_only, starts=starts, out=out, name=name,
+        rft_coefficients=rft_coefficients, leave_one_out=leave_one_out, workers=workers,
+    )  # fmt: skip
     try:
-        import os
-
-        if workers > (os.cpu_count() or 1):
-            raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
-        names = [] if params.strip() == "none" else [p.strip() for p in params.split(",") if p.strip()]
-        if not names and params.strip() != "none":
-            raise InputError("--params names no parameter: give one or more, or 'none' to fit nothing")
-        if not names and leave_one_out:
-            raise InputError("--leave-one-out refits without each omega: nothing is fitted with --params none")
-        fixed = _fixed_values(fix, names)
-        if psi_from_dh not in ("none", "linear", "affine"):
-            raise InputError(f"--psi-from-dh must be none, linear or affine, got {psi_from_dh!r}")
-        if psi_from_dh != "none" and {"psi", "psi_offset"} & (set(names) | set(fixed)):
-            raise InputError("--psi-from-dh sets psi: do not fit psi or psi_offset, nor --fix them")
-
-        def prepared(name: str, check: bool = False):
-            """A scenario with this command's choices: the RFT table, the push, and --structural
-            (on a checked scenario only in place of a correction of its own: a runner keeps none)."""
-            s = with_rft_table(load_scenario(name), rft_coefficients)
-            if structural is not None and not (check and s.force_model.structural == "none"):
-                s = s.validated_copy(force_model=s.force_model.validated_copy(structural=structural))
-            s = with_parameters(s, fixed)
-            return with_mpm_push(s) if mpm_push else s
-
-        stem = name or f"calibration_{Path(scenario).stem.replace('-', '_')}"
-        if name is not None and (not name or Path(name).name != name):
-            raise InputError(f"--name must be a plain file name stem, got {name!r}")
-        start = prepared(scenario)
-        if mpm is None:
-            mpm = _mpm_references(
-                load_scenario(scenario), mpm_omegas, quick, runs, settings, sets, out / f"{stem}_mpm.csv"
-            )
-        elif mpm_omegas is not None or quick or runs is not None or settings is not None or sets:
-            raise InputError("--mpm-omegas, --quick, --runs, --settings and --set make the MPM runs: not with --mpm")
-        ref = _unique_omegas(check_reference(load_reference(mpm, start.name, settled_only=settled_only)), mpm)
-        psi_values: dict[str, float] = {}  # set from the calibrated scenario's rear drop, reused by the checks
-        if psi_from_dh != "none":
-            psi = psi_from_surface_drop(start, ref)
-            if psi is None:
-                raise InputError(f"{mpm}: fewer than 2 runs with a measured rear surface drop")
-            slope, offset = (
-                (psi["linear_slope"], 0.0) if psi_from_dh == "linear" else (psi["affine_slope"], psi["affine_offset"])
-            )
-            psi_values = {"psi": slope, "psi_offset": offset}
-            start = with_parameters(start, psi_values)
-        checks = []
-        for item in check:
-            label, sep, path = item.partition("=")
-            if not sep:
-                raise InputError(f"--check must be NAME=CSV, got {item!r}")
-            if any(c.label == label.strip() for c in checks):  # the comparisons are keyed by NAME: one would be lost
-                raise InputError(
-                    f"--check {label.strip()} given twice: put its omegas in one CSV (research/steady_to_sweep.py takes several files)"
-                )
-            s = prepared(label.strip(), check=True)
-            s = with_parameters(s, psi_values)
-            try:  # a bad check is refused before the fit, not after it
-                checks.append(
-                    Check(
-                        label.strip(),
-                        s,
-                        _unique_omegas(check_reference(load_reference(path.strip(), s.name)), path.strip()),
-                    )
-                )
-            except ValueError as err:
-                raise InputError(f"--check {label.strip()}: {err}") from None
-        res = fit(start, ref, names, kind=model, starts=starts, parallel=workers > 1, n_workers=workers)
-        typer.echo(
-            f"{start.name}: {', '.join(f'{p} = {v:.4g}' for p, v in res.values.items())} ({res.nfev} evaluations; {res.message})"
-        )
-        _echo_comparison(res.comparison)
-        loo = None
-        if leave_one_out:
-            typer.echo("leave-one-out: each omega predicted by a fit without it")
-            loo = cross_validate(start, ref, names, kind=model, starts=starts, progress=typer.echo,
-                                 parallel=workers > 1, n_workers=workers)  # fmt: skip
-            _echo_comparison(loo.comparison)
+        paths = run_calibration(job, say=typer.echo, warn=lambda text: typer.echo(f"warning: {text}", err=True))
     except (InputError, ValueError) as err:
         _fail(err)
-    meta = {"command": {"scenario": scenario, "mpm": str(mpm), "params": names, "fixed": fixed, "structural": start.force_model.structural,
-                        "mpm_push": mpm_push, "psi_from_dh": psi_from_dh, "checks": list(check), "model": model, "settled_only": settled_only,
-                        "starts": starts, "rft_coefficients": None if rft_coefficients is None else str(rft_coefficients),
-                        "leave_one_out": leave_one_out, "workers": workers}}  # fmt: skip
-    if loo is not None:
-        meta["leave_one_out"] = loo.summary()
-    paths, check_cmps = write_calibration(out, stem, res, start, ref, checks, model, meta)
-    paths.append(_write_model_file(out / f"{stem}.model.json", res, model, mpm_push, mpm))
-    for label, c in check_cmps.items():
-        rows = ", ".join(
-            f"{w:g} RPM v {_pct(dv)} s {_pct(ds)}"
-            for w, dv, ds in zip(c.omega_rpm, c.rel_error_velocity, c.rel_error_sinkage)
-        )
-        typer.echo(f"check {label} ({c.name}, fitted values reused): {rows}; max |relative error| velocity "
-                   f"{_pct(c.max_abs_rel_error_velocity, '')}, sinkage {_pct(c.max_abs_rel_error_sinkage, '')}")  # fmt: skip
     for p in paths:
         typer.echo(str(p))
-
-
-def _fixed_values(items: list[str], fitted: list[str]) -> dict[str, float]:
-    """``--fix NAME=VALUE`` items as {name: value}: each a known parameter, finite, given once and not fitted."""
-    from intrusim.analysis.calibration import PARAMETERS
-
-    out: dict[str, float] = {}
-    for item in items:
-        key, sep, text = item.partition("=")
-        key = key.strip()
-        if not sep or key not in PARAMETERS:
-            raise InputError(f"--fix must be NAME=VALUE with NAME one of {', '.join(PARAMETERS)}, got {item!r}")
-        if key in out or key in fitted:
-            raise InputError(f"--fix {key}: {'given twice' if key in out else 'also in --params (fitted)'}")
-        try:
-            value = float(text)
-        except ValueError:
-            raise InputError(f"--fix {key}: {text.strip()!r} is not a number") from None
-        if not math.isfinite(value):
-            raise InputError(f"--fix {key}: must be finite, got {text.strip()!r}")
-        out[key] = value
-    return out
-
-
-def _mpm_references(
-    scn: Any,
-    omegas: Optional[str],
-    quick: bool,
-    runs: Optional[Path],
-    settings: Optional[Path],
-    sets: list[str],
-    csv: Path,
-) -> Path:
-    """Make (or reuse) the MPM runs of ``scn`` at ``omegas`` and write their table to ``csv``."""
-    from intrusim.analysis.sweep import omega_list
-    from intrusim.figures.mpm import MPM_RUNNER_RPM, MPM_WHEEL_RPM, mpm_sweep_table
-    from intrusim.scenarios.mpm_settings import case_settings, settings_items
-
-    w = omega_list(omegas) if omegas is not None else (MPM_RUNNER_RPM if scn.body == "runner" else MPM_WHEEL_RPM)
-    if len(w) < 1:
-        raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
-    case_settings(scn, quick, settings, sets)  # a bad setting is refused before any run
-    mpm_sweep_table(scn, w, quick, runs, settings_items(settings, sets), csv)
-    typer.echo(f"MPM references: {csv}")
-    return csv
-
-
-def _write_model_file(path: Path, res: Any, kind: str, mpm_push: bool, mpm: Path) -> Path:
-    from intrusim.analysis.model_file import ModelFile, write_model
-
-    c = res.comparison.summary()  # the errors as the fit's record has them (None where not finite)
-    fit = {"params": res.values, "reference": str(mpm), "omega_rpm": c["omega_rpm"],
-           **{k: c[k] for k in ("max_abs_rel_error_velocity", "max_abs_rel_error_sinkage")}}  # fmt: skip
-    model = ModelFile(kind=kind, force_model=res.scenario.force_model, mpm_push=mpm_push,
-                      calibrated_on=res.scenario.name, fit=fit)  # fmt: skip
-    return write_model(path, model)
-
-
-def _unique_omegas(ref: Any, source: Any) -> Any:
-    """``ref`` (a reference sweep) if each of its omegas appears once; else an InputError, before any fit."""
-    w = [float(x) for x in ref.omega_rpm]
-    twice = sorted({x for x in w if w.count(x) > 1})
-    if twice:
-        raise InputError(
-            f"{source}: omega_rpm {', '.join(f'{x:g}' for x in twice)} appears more than once "
-            "(one run per omega: gather them with `intrusim mpm collect`)"
-        )
-    return ref
-
-
-def _pct(x: float, sign: str = "+") -> str:
-    """A relative error as a percentage; a failed DRFT point (NaN, or an infinite maximum) as 'failed'."""
-    return f"{x:{sign}.1%}" if math.isfinite(x) else "failed"
-
-
-def _echo_comparison(c: Any) -> None:
-    """A calibration's per-omega table (an ``analysis.calibration.Comparison``) on the terminal."""
-    typer.echo(
-        f"{'omega RPM':>9} | {'v MPM':>7} | {'v DRFT':>7} | {'dv':>6} | {'s MPM mm':>8} | {'s DRFT mm':>9} | {'ds':>6}"
-    )
-    for row in zip(
-        c.omega_rpm,
-        c.velocity_ref,
-        c.velocity_model,
-        c.rel_error_velocity,
-        c.sinkage_ref,
-        c.sinkage_model,
-        c.rel_error_sinkage,
-    ):
-        w, v0, v1, dv, s0, s1, ds = row
-        typer.echo(f"{w:9.4g} | {v0:7.4f} | {v1:7.4f} | {dv:+6.1%} | {s0 * 1e3:8.2f} | {s1 * 1e3:9.2f} | {ds:+6.1%}")
-    typer.echo(
-        f"max |relative error|: velocity {c.max_abs_rel_error_velocity:.1%}, sinkage {c.max_abs_rel_error_sinkage:.1%}"
-    )
 
 
 @app.command()

@@ -124,7 +124,9 @@ def test_calibrate_a_wheel_nobody_simulated_end_to_end(tmp_path, monkeypatch):
     args = ["calibrate", "my_wheel.toml", "--quick", "--mpm-omegas", "30,90", "--params", "xi", "--starts", "1"]
     r = run(*args, "--out", "out")
     assert r.exit_code == 0, r.output
-    assert (tmp_path / "runs" / "mpm-quick" / "ten_grousers_30rpm" / "result.json").is_file()
+    assert (tmp_path / "out" / "mpm-runs" / "ten_grousers_30rpm" / "result.json").is_file()  # under --out
+    assert not (tmp_path / "runs").exists() and not list((tmp_path / "out").rglob(".lock"))
+    assert json.loads((tmp_path / "out" / "calibration_my_wheel.body.json").read_text())["lug_count"] == 10
     report = json.loads((tmp_path / "out" / "calibration_my_wheel.json").read_text())
     cmp = report["calibration"]["comparison"]
     assert cmp["scenario"] == "ten_grousers" and cmp["omega_rpm"] == [30.0, 90.0]
@@ -134,10 +136,10 @@ def test_calibrate_a_wheel_nobody_simulated_end_to_end(tmp_path, monkeypatch):
         st = run_steady(m.apply(load_scenario("my_wheel.toml")), m.kind, w)
         assert st.velocity == pytest.approx(cmp["velocity_model_m_s"][i], rel=1e-9)
         assert st.sinkage == pytest.approx(cmp["sinkage_model_m"][i], rel=1e-9)
-    # the runs are reused: a second calibration makes none
-    results = sorted((tmp_path / "runs").rglob("result.json"))
+    # the runs are reused: a second calibration on them (--runs) makes none
+    results = sorted((tmp_path / "out" / "mpm-runs").rglob("result.json"))
     stamps = [p.stat().st_mtime_ns for p in results]
-    r = run(*args, "--out", "again")
+    r = run(*args, "--runs", "out/mpm-runs", "--out", "again")
     assert r.exit_code == 0, r.output
     assert len(results) == 2 and [p.stat().st_mtime_ns for p in results] == stamps
     assert (tmp_path / "again" / "calibration_my_wheel_mpm.csv").read_text() == (

@@ -313,6 +313,8 @@ class CalibrationResult:
     nfev : distinct parameter sets evaluated (each one DRFT steady state per reference omega),
         all local fits together.
     success, message : from scipy.optimize.least_squares.
+    jacobian : d residuals / d parameters at the fit (finite differences over ``diff_step``), or None
+        (nothing fitted); :meth:`std_errors` reads it.
     """
 
     scenario: LocomotorScenario
@@ -326,6 +328,35 @@ class CalibrationResult:
     success: bool
     message: str
     meta: dict[str, Any] = field(default_factory=dict)
+    jacobian: np.ndarray | None = field(default=None, repr=False)
+
+    def std_errors(self) -> dict[str, float]:
+        """Standard error of each fitted parameter from the Jacobian at the fit (the Gauss-Newton
+        covariance s^2 (J^T J)^-1, s^2 the residuals' variance: 2 cost / (residuals - parameters),
+        at least one); inf for a parameter the data do not identify (J^T J singular: a flat
+        direction of the cost)."""
+        if self.jacobian is None or not self.params:
+            return {}
+        jac = np.asarray(self.jacobian, float)
+        if not np.all(np.isfinite(jac)):
+            return dict.fromkeys(self.params, math.nan)
+        m, n = jac.shape
+        s2 = 2.0 * self.cost / max(m - n, 1)
+        out = dict.fromkeys(self.params, math.inf)  # a parameter the residuals do not move: unidentified
+        seen = np.flatnonzero(np.linalg.norm(jac, axis=0) > 0.0)
+        if len(seen) == 0:
+            return out
+        sub = jac[:, seen]
+        scale = np.linalg.norm(sub, axis=0)
+        norm = (sub.T @ sub) / np.outer(scale, scale)  # unit diagonal: a flat direction is a tiny eigenvalue
+        w, vec = np.linalg.eigh(norm)
+        flat = np.zeros(len(seen), bool)
+        for k in np.flatnonzero(w < 1e-10 * w.max()):
+            flat |= np.abs(vec[:, k]) > 0.1  # the parameters taking part in a flat direction
+        cov = np.linalg.pinv(norm, hermitian=True) / np.outer(scale, scale) * s2
+        for i, col in enumerate(seen):
+            out[self.params[col]] = math.inf if flat[i] else float(np.sqrt(max(cov[i, i], 0.0)))
+        return out
 
     @property
     def max_abs_rel_error(self) -> float:
@@ -340,7 +371,8 @@ class CalibrationResult:
             "initial": self.initial, "bounds": {k: list(b) for k, b in self.bounds.items()},
             "force_model": fm.model_dump(mode="json"), "external_fx_N": self.scenario.external_fx,
             "cost": self.cost, "nfev": self.nfev, "success": self.success, "message": self.message,
-            "max_abs_rel_error": _num(self.max_abs_rel_error), "comparison": self.comparison.summary(), **self.meta,
+            "max_abs_rel_error": _num(self.max_abs_rel_error), "comparison": self.comparison.summary(),
+            "std_errors": {k: _num(v) for k, v in self.std_errors().items()}, **self.meta,
         }  # fmt: skip
 
 
@@ -438,7 +470,7 @@ def calibrate(
         scenario=with_parameters(scenario, values), params=names, values=values,
         initial=dict(zip(names, (float(v) for v in start))), bounds=bnd, comparison=fit.comparison,
         cost=float(fit.cost), nfev=len(set().union(*(f.evaluated for f in fits))), success=bool(fit.success),
-        message=str(fit.message), meta={"local_fits": local} if starts > 1 else {},
+        message=str(fit.message), meta={"local_fits": local} if starts > 1 else {}, jacobian=fit.jacobian,
     )  # fmt: skip
 
 
@@ -452,6 +484,7 @@ class _LocalFit:
     message: str
     comparison: Comparison  # at x
     evaluated: frozenset  # the parameter sets it evaluated
+    jacobian: np.ndarray  # d residuals / d x at x
 
 
 def _local_fit(
@@ -470,7 +503,9 @@ def _local_fit(
     f = least_squares(
         lambda x: evaluate(x).residuals(), x0, bounds=(lo, hi), diff_step=diff_step, x_scale="jac", max_nfev=max_nfev
     )
-    return _LocalFit(f.x, float(f.cost), bool(f.success), str(f.message), evaluate(f.x), frozenset(cache))
+    return _LocalFit(
+        f.x, float(f.cost), bool(f.success), str(f.message), evaluate(f.x), frozenset(cache), np.asarray(f.jac)
+    )
 
 
 @dataclass(frozen=True)

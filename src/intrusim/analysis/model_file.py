@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Any, Literal
 
@@ -101,5 +102,29 @@ def resolve_model(model: str, scenario: LocomotorScenario) -> tuple[str, Locomot
         return model, scenario
     if model.endswith(".json") or Path(model).is_file():
         m = read_model(model)
-        return m.kind, m.apply(scenario)
+        out = m.apply(scenario)
+        if out.external_fx != scenario.external_fx:  # a force on the body: said, never silent
+            print(
+                f"{model}: mpm_push = true gives {out.name} a constant forward push of {out.external_fx:.3g} N "
+                f"(was {scenario.external_fx:.3g} N): the MPM runs' rig-friction compensation the model was calibrated with",
+                file=sys.stderr,
+            )
+        return m.kind, out
     raise InputError(f"--model must be one of {', '.join(ALL_KINDS)} or a model file (*{SUFFIX}), got {model!r}")
+
+
+def with_rft_table(scn: LocomotorScenario, path: str | Path | None) -> LocomotorScenario:
+    """The scenario with its RFT coefficient table read from ``path`` and xi = 1 (None: unchanged).
+
+    A measured table is the medium's own, so it is used as it is (a calibration may still fit
+    xi, a scale of it, from 1). The path is kept as given (relative to the working folder, as
+    the sweep's local workers see it) and read once here, so a missing or malformed file fails
+    before any compute.
+    """
+    if path is None:
+        return scn
+    from intrusim.laws.rft import load_coefficients
+
+    load_coefficients(path)
+    fm = scn.force_model.validated_copy(rft_coefficients=str(path), xi=1.0)
+    return scn.validated_copy(force_model=fm)

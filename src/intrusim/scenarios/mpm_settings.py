@@ -159,7 +159,7 @@ def _fields_read(data: dict[str, Any], key: str, names: tuple[str, ...]) -> dict
     from intrusim.scenarios.mpm_locomotion import MPMSettings
 
     try:
-        checked = MPMSettings.model_validate({n: data[n] for n in names})
+        checked = MPMSettings.model_validate({n: data[n] for n in names}, context={"partial": True})
     except ValidationError as err:
         raise InputError(f"{validation_message(err)} (read by {key})") from None
     return {n: getattr(checked, n) for n in names}
