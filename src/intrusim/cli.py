@@ -372,7 +372,7 @@ def calibrate(
     workers: int = typer.Option(
         1,
         min=1,
-        help="Processes for the local fits (--starts) and the leave-one-out folds: a local Dask cluster when > 1.",
+        help="Processes at once, at most this machine's cores: the MPM runs made without --mpm (each on cores / workers threads), then the local fits (--starts) and the leave-one-out folds (a local Dask cluster when > 1).",
     ),
 ) -> None:
     """Calibrate DRFT on MPM steady states (v and sinkage per omega) and check the transfer to other scenarios.

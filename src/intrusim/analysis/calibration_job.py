@@ -198,7 +198,7 @@ def make_references(job: CalibrationJob, scn: Any, csv: Path, say: Say, warn: Sa
     if note:
         warn(note)
     runs = job.runs if job.runs is not None else job.out / "mpm-runs"
-    res = mpm_sweep_table(scn, w, job.quick, runs, settings_items(job.settings, job.sets), csv)
+    res = mpm_sweep_table(scn, w, job.quick, runs, settings_items(job.settings, job.sets), csv, workers=job.workers)
     failed = [r for r in res.records if not r.get("ok")]
     for r in failed:
         err = str(r.get("error") or "unknown error").strip()
@@ -252,7 +252,8 @@ def _fit_warnings(res: Any, say: Say, warn: Say) -> None:
     for p in res.params:
         v, (lo, hi) = res.values[p], res.bounds[p]
         se = errors.get(p, math.nan)
-        if min(v - lo, hi - v) <= 0.02 * (hi - lo):
+        near = se if math.isfinite(se) else 0.02 * (hi - lo)  # within its own uncertainty of the bound
+        if min(v - lo, hi - v) <= max(near, 1e-3 * (hi - lo)):
             warn(
                 f"{p} = {v:.4g} is at a bound of its range [{lo:g}, {hi:g}]: the data push it further; not a measured value"
             )

@@ -141,27 +141,6 @@ def run_progress(scenario: Any, kind: str, omega_rpm: float) -> RunProgress | No
     return RunProgress(f"{name} {omega_rpm:g} RPM", mpm.t_max)
 
 
-def mpm_steady(case: Any, omega_rpm: float, progress: RunProgress) -> Any:
-    """``case.run_steady("mpm", omega_rpm)`` of an MPMLocomotion ``case`` (one writer per run folder,
-    a finished run reused or extended, ``result.json`` written at the end), with ``progress`` given
-    to :func:`~intrusim.scenarios.mpm_locomotion.run_mpm_steady`."""
-    from intrusim.mpm.io import refuse_other_run, run_lock
-    from intrusim.scenarios import mpm_locomotion as ml
-
-    out = case.run_dir(omega_rpm)
-    with run_lock(out):  # one writer per run folder
-        if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
-            if not refuse_other_run(out, ml.mpm_config(case.scenario, case.mpm, omega_rpm, out)):
-                progress.say(f"finished before, reused ({out})")
-                return ml.load_result(out, case.mpm, case.scenario.body)
-            (out / "result.json").unlink()  # extended: the folder is unfinished until the longer run ends
-        progress.say(f"running to t = {case.mpm.t_max:g} s" + ("" if out is None else f" in {out}"))
-        st = ml.run_mpm_steady(case.scenario, case.mpm, omega_rpm, out, progress)
-        if out is not None:
-            ml.write_result(out, st)
-    return st
-
-
 def sweep_point(
     scenario: Any, kind: str, omega_rpm: float, lam: float | None, progress: RunProgress | None = None
 ) -> dict[str, Any]:
@@ -173,7 +152,7 @@ def sweep_point(
         # a scenario may carry its own runner (MPMLocomotion: the continuum solver)
         runner = getattr(scenario, "run_steady", None)
         if progress is not None and kind == "mpm":
-            st = mpm_steady(scenario, omega_rpm, progress)
+            st = scenario.run_steady(kind, omega_rpm, lam, progress=progress)
         elif runner is not None:
             st = runner(kind, omega_rpm, lam)
         else:

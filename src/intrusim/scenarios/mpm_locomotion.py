@@ -739,21 +739,29 @@ class MPMLocomotion(Config):
     def radius(self) -> float:
         return self.scenario.radius
 
-    def run_steady(self, kind: str, omega_rpm: float, lam: float | None = None) -> MPMSteadyState:
-        """Steady state at ``omega_rpm`` (``kind`` must be "mpm"; ``lam`` is not used by MPM)."""
+    def run_steady(
+        self, kind: str, omega_rpm: float, lam: float | None = None, progress: Callable[[dict], None] | None = None
+    ) -> MPMSteadyState:
+        """Steady state at ``omega_rpm`` (``kind`` must be "mpm"; ``lam`` is not used by MPM): one
+        writer per run folder, a finished run reused (or extended to a longer t_max), ``result.json``
+        written at the end. ``progress``: called at each chunk's end (:func:`run_mpm_steady`); a
+        ``say(text)`` method of it, if any, is told whether the run is reused or run."""
         if kind != "mpm":
             raise InputError(f"MPMLocomotion runs the 'mpm' model, got {kind!r}")
         from intrusim.mpm.io import run_lock
 
+        say = getattr(progress, "say", None) or (lambda text: None)
         out = self.run_dir(omega_rpm)
         with run_lock(out):  # one writer per run folder
             if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
                 from intrusim.mpm.io import refuse_other_run
 
                 if not refuse_other_run(out, mpm_config(self.scenario, self.mpm, omega_rpm, out)):
+                    say(f"finished before, reused ({out})")
                     return load_result(out, self.mpm, self.scenario.body)
                 (out / "result.json").unlink()  # extended: the folder is unfinished until the longer run ends
-            st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out)
+            say(f"running to t = {self.mpm.t_max:g} s" + ("" if out is None else f" in {out}"))
+            st = run_mpm_steady(self.scenario, self.mpm, omega_rpm, out, progress)
             if out is not None:
                 write_result(out, st)
         return st
