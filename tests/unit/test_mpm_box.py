@@ -54,3 +54,15 @@ def test_a_wide_body_moves_its_start_and_lengthens_the_bed(tmp_path):
     mpm_config(sc, s, 30.0)
     with pytest.raises(InputError, match="start_x must be at least its radius plus a cell"):
         mpm_config(sc, s.validated_copy(start_x=0.16), 30.0)
+
+
+def test_cells_coarser_than_a_fifth_of_the_thinnest_lug_are_warned_of(capsys):
+    wheel = get_scenario("wheel")  # 6 mm thick grousers: cells of at most 1.2 mm resolve them
+    case_settings(wheel, True)
+    assert "warning: grousered_wheel: cells of 20 mm are coarser than a fifth" in capsys.readouterr().err
+    case_settings(wheel, False)
+    assert "cells of 5 mm" in capsys.readouterr().err
+    case_settings(wheel, False, sets=["cell_size=0.001"])
+    assert "warning" not in capsys.readouterr().err
+    case_settings(wheel, True, echo=False)  # a figure's check: silent
+    assert capsys.readouterr().err == ""

@@ -32,8 +32,6 @@ from intrusim._checks import InputError
 
 Say = Callable[[str], None]
 
-RESOLUTION_FRACTION = 5  # cells at most a fifth of the body's thinnest feature (docs/convergence.md)
-
 
 @dataclass
 class CalibrationJob:
@@ -115,23 +113,6 @@ def fixed_values(items: list[str], fitted: list[str]) -> dict[str, float]:
     return out
 
 
-def thinnest_feature(scenario: Any) -> float:
-    """The body's thinnest feature, m: its lugs' thickness or height, whichever is smaller."""
-    return float(min(scenario.lug_width, scenario.lug_height))
-
-
-def resolution_warning(scenario: Any, cell_size: float, quick: bool = False) -> str | None:
-    """A warning when cells are coarser than a fifth of the body's thinnest feature, else None."""
-    feature = thinnest_feature(scenario)
-    if cell_size <= feature / RESOLUTION_FRACTION * (1 + 1e-9):
-        return None
-    what = "quick runs: trends only" if quick else "the answer moves with the cells"
-    return (
-        f"{scenario.name}: cells of {cell_size * 1e3:.3g} mm are coarser than a fifth of the body's thinnest feature "
-        f"({feature * 1e3:.3g} mm lugs: {feature / RESOLUTION_FRACTION * 1e3:.3g} mm); {what} (docs/convergence.md)"
-    )
-
-
 def pct(x: float, sign: str = "+") -> str:
     """A relative error as a percentage; a failed DRFT point (NaN, or an infinite maximum) as 'failed'."""
     return f"{x:{sign}.1%}" if math.isfinite(x) else "failed"
@@ -191,12 +172,9 @@ def make_references(job: CalibrationJob, scn: Any, csv: Path, say: Say, warn: Sa
         raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
     if job.fitted and len(w) < 2:
         raise InputError(f"--mpm-omegas: a fit needs at least 2 omegas, got {len(w)} ({omegas})")
-    settings = case_settings(scn, job.quick, job.settings, job.sets)  # a bad setting is refused before any run
+    settings = case_settings(scn, job.quick, job.settings, job.sets)  # refused before any run; warns of coarse cells
     for omega in w:  # and a run that cannot be made (a box set by hand that cannot hold the body, too many steps)
         check_run(scn, settings, float(omega))
-    note = resolution_warning(scn, settings.h, job.quick)
-    if note:
-        warn(note)
     runs = job.runs if job.runs is not None else job.out / "mpm-runs"
     res = mpm_sweep_table(scn, w, job.quick, runs, settings_items(job.settings, job.sets), csv, workers=job.workers)
     failed = [r for r in res.records if not r.get("ok")]
@@ -215,6 +193,7 @@ def make_references(job: CalibrationJob, scn: Any, csv: Path, say: Say, warn: Sa
 
 def _reference_warnings(job: CalibrationJob, scn: Any, ref: Any, csv: Path, made: bool, warn: Say) -> None:
     """Unsettled runs, and (for a given CSV with its settings record) cells too coarse for the body."""
+    from intrusim.scenarios.mpm_locomotion import resolution_warning
     from intrusim.scenarios.mpm_settings import read_record
 
     loose = [r for r in ref.records if "settled" in r and not bool(r["settled"])]

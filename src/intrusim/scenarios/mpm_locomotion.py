@@ -239,6 +239,26 @@ def body_settings(scenario: LocomotorScenario, quick: bool, echo: bool = True) -
     return fit_box(base_settings(scenario.body, quick, scenario.mpm_scale), scenario, echo)
 
 
+RESOLUTION_FRACTION = 5  # cells at most a fifth of the body's thinnest feature (docs/convergence.md)
+
+
+def thinnest_feature(scenario: LocomotorScenario) -> float:
+    """The body's thinnest feature, m: its lugs' thickness or height, whichever is smaller."""
+    return float(min(scenario.lug_width, scenario.lug_height))
+
+
+def resolution_warning(scenario: LocomotorScenario, cell_size: float, quick: bool = False) -> str | None:
+    """A warning when cells are coarser than a fifth of the body's thinnest feature, else None."""
+    feature = thinnest_feature(scenario)
+    if cell_size <= feature / RESOLUTION_FRACTION * (1 + 1e-9):
+        return None
+    what = "quick runs: trends only" if quick else "the answer moves with the cells"
+    return (
+        f"{scenario.name}: cells of {cell_size * 1e3:.3g} mm are coarser than a fifth of the body's thinnest feature "
+        f"({feature * 1e3:.3g} mm lugs: {feature / RESOLUTION_FRACTION * 1e3:.3g} mm); {what} (docs/convergence.md)"
+    )
+
+
 def _extent(scenario: LocomotorScenario) -> tuple[float, float]:
     """(outer radius, depth of the lowest point below the centre) of the body's TRUE outline, m."""
     outline = scenario.rft_shape().polygon

@@ -202,10 +202,17 @@ def case_settings(
 ) -> Any:
     """The MPMSettings of a command: the quick or paper base of ``scenario``'s body (at its
     ``mpm_scale``, the box grown to hold the body: :func:`~intrusim.scenarios.mpm_locomotion.body_settings`),
-    then the settings file, then each ``key=value`` of ``sets`` in order."""
-    from intrusim.scenarios.mpm_locomotion import body_settings
+    then the settings file, then each ``key=value`` of ``sets`` in order. ``echo``: say on stderr
+    what was grown and warn of cells coarser than a fifth of the body's thinnest feature."""
+    import sys
 
-    return apply_settings(body_settings(scenario, quick, echo), settings_items(settings_file, sets))
+    from intrusim.scenarios.mpm_locomotion import body_settings, resolution_warning
+
+    s = apply_settings(body_settings(scenario, quick, echo), settings_items(settings_file, sets))
+    note = resolution_warning(scenario, s.h, quick) if echo else None
+    if note:
+        print(f"warning: {note}", file=sys.stderr)
+    return s
 
 
 # ---------------------------------------------------------------- the record of a sweep's settings
