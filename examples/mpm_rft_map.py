@@ -4,7 +4,8 @@
     python examples/mpm_rft_map.py fit runs/rftmap/base --out docs/figures/rft_map_mpm
 
 ``run`` moves one plate per (beta, gamma) (``intrusim.mpm.rft_map``) and appends each result to
-OUT/alpha_map.csv as it finishes; run it again to do only the missing cases. ``fit`` fits the
+OUT/alpha_map.csv as it finishes (each column with its unit: beta_rad, alpha_z_N_m3 ...; a map
+written before, without, is read and extended as it is); run it again to do only the missing cases. ``fit`` fits the
 Li (2013) Fourier form to the map (``intrusim.analysis.rft_fit``), writes NAME.json (the
 coefficients, in N/cm^3, for ``intrusim.laws.rft``), NAME.csv (measured, fitted and generic
 alpha per case) and NAME.png.
@@ -27,7 +28,16 @@ import typer
 
 from intrusim._checks import InputError
 from intrusim.mpm.config import DEFAULT_CONTACT
-from intrusim.mpm.rft_map import PlateMapCase, case_record, map_cases, measure_alpha
+from intrusim.mpm.rft_map import (
+    PlateMapCase,
+    alpha_map_column,
+    alpha_map_key,
+    alpha_map_row,
+    case_record,
+    map_cases,
+    measure_alpha,
+    read_alpha_map,
+)
 
 app = typer.Typer(add_completion=False, no_args_is_help=True)
 
@@ -37,10 +47,11 @@ def main() -> None:
     """Plate maps alpha(beta, gamma) of the MPM medium (run) and Li's form fitted to them (fit)."""
 
 
-FIELDS = [
+KEYS = [
     "beta", "gamma", "depth", "plate_length", "plate_thickness", "speed", "travel", "cell_size",
     "contact", "contact_band_cells", "bed_height", "domain", "grid_offset", "fluidity_diameter", "alpha_x", "alpha_z", "alpha_x_std", "alpha_z_std", "depth_mean", "steps", "wall_s",
 ]  # fmt: skip
+FIELDS = [alpha_map_column(k) for k in KEYS]  # the CSV's columns, each with its unit (beta_rad, alpha_x_N_m3 ...)
 
 
 def _run_one(kw: dict) -> dict:
@@ -50,7 +61,7 @@ def _run_one(kw: dict) -> dict:
     t0 = time.perf_counter()
     solver = Solver(case.config(cpu_threads=1))
     rows = solver.run()
-    rec = {k: v for k, v in case_record(case).items() if k in FIELDS}
+    rec = {k: v for k, v in case_record(case).items() if k in KEYS}
     rec.update(measure_alpha(rows, case), steps=solver.step_count, wall_s=round(time.perf_counter() - t0, 1))
     return rec
 
@@ -60,14 +71,24 @@ def _key(beta: float, gamma: float) -> tuple[float, float]:
     return round(float(beta), 6), round(float(gamma), 6)
 
 
+def _angle_columns(columns) -> tuple[str, str]:
+    """The (beta, gamma) columns of a map's header: beta_rad, gamma_rad or, written before, beta, gamma."""
+    by_key = {alpha_map_key(c): c for c in columns}
+    if "beta" not in by_key or "gamma" not in by_key:
+        raise typer.BadParameter(f"not an alpha_map.csv: no beta and gamma columns in {list(columns)}")
+    return by_key["beta"], by_key["gamma"]
+
+
 def _existing(path: Path) -> tuple[list[str] | None, set[tuple[float, float]]]:
     """The CSV's columns (None: no file yet) and the (beta, gamma) of the cases it holds, in one read."""
     if not path.exists():
         return None, set()
     with path.open() as f:
         reader = csv.DictReader(f)
-        done = {_key(r["beta"], r["gamma"]) for r in reader}
-        return list(reader.fieldnames or FIELDS), done
+        if not reader.fieldnames:  # an empty file: written as a new one
+            return None, set()
+        beta, gamma = _angle_columns(reader.fieldnames)  # beta_rad or, in a map written before, beta
+        return list(reader.fieldnames), {_key(r[beta], r[gamma]) for r in reader}
 
 
 def _degrees(text: str) -> list[float]:
@@ -128,7 +149,7 @@ def run(
                            f"{math.degrees(kw['gamma']):.0f}: FAILED {type(err).__name__}: {err}")  # fmt: skip
                 failed += 1
                 continue
-            w.writerow(rec)
+            w.writerow({**rec, **alpha_map_row(rec)})  # an older map's columns (beta ...) or the new ones
             f.flush()
             typer.echo(f"[{i}/{len(kws)}] beta {math.degrees(rec['beta']):4.0f} gamma {math.degrees(rec['gamma']):4.0f}: "
                        f"alpha_x {rec['alpha_x']:9.0f} alpha_z {rec['alpha_z']:9.0f} N/m^3 ({rec['wall_s']} s)")  # fmt: skip
@@ -138,10 +159,14 @@ def run(
 
 
 def read_map(path: Path) -> dict[str, np.ndarray]:
+    """The map's columns by their short keys (beta, gamma rad, alpha_x N/m^3 ...), the units in the
+    header or not (a map written before)."""
     if not path.is_file():
         raise typer.BadParameter(f"{path} not found: run the map first")
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return {k: np.atleast_1d(data[k]) for k in data.dtype.names}
+    try:
+        return read_alpha_map(path)
+    except InputError as err:
+        raise typer.BadParameter(str(err)) from None
 
 
 @app.command()

@@ -39,6 +39,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from intrusim.analysis.compare import forces_by_part, mean_wrench_along  # noqa: E402
 from intrusim.kinematics import BodyState  # noqa: E402
+from intrusim.mpm.io import read_timeseries  # noqa: E402
 from intrusim.scenarios.base import ForceModelConfig  # noqa: E402
 from intrusim.scenarios.locomotor import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import summarise_run  # noqa: E402
@@ -81,11 +82,11 @@ def part_forces(model: object, s: dict[str, np.ndarray], surface: float) -> dict
 def mpm_ahead(run: Path, t0: float, t1: float) -> np.ndarray | None:
     """Mean (fx, fz) of the MPM grains on the wheel from the grid nodes ahead of its centre over
     [t0, t1] (time-series columns fx_ahead, fz_ahead), or None where the run has not recorded them."""
-    with (run / "timeseries.csv").open() as f:
-        rows = [r for r in csv.DictReader(f) if t0 - 1e-9 <= float(r["time"]) <= t1 + 1e-9]
-    if not rows or any(r.get("fx_ahead", "") in ("", None) for r in rows):
+    ts = read_timeseries(run / "timeseries.csv")  # units in the header or not (older runs)
+    sel = (ts["time"] >= t0 - 1e-9) & (ts["time"] <= t1 + 1e-9)
+    if not sel.any() or "fx_ahead" not in ts or np.isnan(ts["fx_ahead"][sel]).any():
         return None
-    return np.array([[float(r["fx_ahead"]), float(r["fz_ahead"])] for r in rows]).mean(axis=0)
+    return np.array([ts["fx_ahead"][sel].mean(), ts["fz_ahead"][sel].mean()])
 
 
 def plot_halves(parts: list[dict], path: Path) -> None:

@@ -147,7 +147,7 @@ def held_from_free(
     checkpoint = mpm_io.load_checkpoint(ckpt)
     meta_ck = checkpoint[1]
     t0 = meta_ck["step_count"] * meta_ck["dt"]
-    ts = np.genfromtxt(free / "timeseries.csv", delimiter=",", names=True)
+    ts = mpm_io.read_timeseries(free / "timeseries.csv")
     if ts["time"][0] > t0 - window:
         raise SystemExit(f"{free}: the window {window:g} s is longer than the run before its checkpoint ({t0:.3f} s)")
     means = interval_means(ts["time"], {"vx": ts["vx"], "z": ts["z"]}, t0 - window + 2e-9, t0 + 1e-9)
@@ -221,7 +221,7 @@ def switch(args: argparse.Namespace) -> None:
     print(f"wrote {out} in {info['wall_s']:.0f} s")
 
 
-def last_window_means(t: np.ndarray, window: float) -> dict[str, float]:
+def last_window_means(t: dict[str, np.ndarray], window: float) -> dict[str, float]:
     """Mean force, moment and their ahead parts over the last ``window`` seconds of a time series."""
     t_end = float(t["time"][-1])
     cols = ("fx", "fz", "moment", "fx_ahead", "fz_ahead", "moment_ahead")
@@ -233,7 +233,7 @@ def last_window_means(t: np.ndarray, window: float) -> dict[str, float]:
     return row
 
 
-def after_switch_means(t: np.ndarray, t_switch: float, every: float) -> list[dict[str, float]]:
+def after_switch_means(t: dict[str, np.ndarray], t_switch: float, every: float) -> list[dict[str, float]]:
     """Mean force and moment over consecutive ``every``-second windows (t0, t1] from the switch: how
     the held wheel's force settles (``t_start``, ``t_end`` in seconds since the switch). Windows the
     series covers to within one record interval only (the last record falls up to one interval
@@ -257,7 +257,7 @@ def table(args: argparse.Namespace) -> None:
             if not (run_dir / "timeseries.csv").exists():
                 continue
             meta = json.loads(meta_path.read_text())
-            t = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
+            t = mpm_io.read_timeseries(run_dir / "timeseries.csv")
             rows.append({**meta, **last_window_means(t, args.window), "run": str(run_dir)})
             series.append((meta, t))
             if args.after_switch is not None and "t_switch" in meta:

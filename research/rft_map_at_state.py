@@ -29,14 +29,15 @@ from intrusim.analysis.compare import forces_by_part
 from intrusim.analysis.rft_fit import interpolated_map
 from intrusim.kinematics import BodyState, element_motion
 from intrusim.laws.rft import alpha, load_coefficients, rft_traction_with
+from intrusim.mpm.rft_map import read_alpha_map
 from intrusim.scenarios import get_scenario
 from intrusim.scenarios.locomotor import without_lugs
 
 
 def map_from_csv(path: Path):
     """The measured map of an alpha_map.csv, interpolated (``analysis.rft_fit.interpolated_map``)."""
-    m = np.genfromtxt(path, delimiter=",", names=True)
     try:
+        m = read_alpha_map(path)  # the units in the header (beta_rad, alpha_x_N_m3 ...) or not (older maps)
         return interpolated_map(m["beta"], m["gamma"], m["alpha_x"], m["alpha_z"])
     except InputError as err:
         raise SystemExit(f"{path}: {err}") from None

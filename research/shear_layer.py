@@ -60,6 +60,7 @@ import numpy as np
 from intrusim.analysis.steady import interval_means
 from intrusim.mpm.config import FluidityConfig
 from intrusim.mpm.constitutive import pressure as mean_pressure
+from intrusim.mpm.io import read_timeseries
 from intrusim.mpm.solver import CHECKPOINT
 from intrusim.params import RPM, table_s1
 from intrusim.scenarios import grousered_wheel_scenario
@@ -118,7 +119,7 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     meta = json.loads((run_dir / META).read_text())
     resolved = json.loads((run_dir / "config.json").read_text())
     dt, material = resolved["derived"]["dt"], resolved["config"]["material"]  # the run's own material law
-    ts = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True)
+    ts = read_timeseries(run_dir / "timeseries.csv")  # units in the header or not
     h = float(meta["cell_mm"]) * 1e-3
     edges = np.arange(DEPTH_RANGE[0], DEPTH_RANGE[1] + 0.25 * h, 0.5 * h)
     sum_u, sum_g, count = (np.zeros(len(edges) - 1) for _ in range(3))
@@ -206,7 +207,7 @@ def layer_profile(run_dir: Path, window: tuple[float, float], sector_deg: float)
     }
 
 
-def cooperativity_length(run_dir: Path, material: dict, ts: np.ndarray, h: float) -> float:
+def cooperativity_length(run_dir: Path, material: dict, ts: dict[str, np.ndarray], h: float) -> float:
     """Median cooperativity length A d / sqrt(|mu - mu_s|), m, over the points around the wheel
     shearing faster than FLOW_RATES[1] at the run's last checkpoint; NaN without the nonlocal fluidity,
     or without a checkpoint (runs shorter than their checkpoint interval, before the solver kept its end state)."""

@@ -38,6 +38,7 @@ SLOW = (
     "tests/unit/test_cli_mpm.py::test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_it",
     "tests/unit/test_cli_mpm.py::test_treadmill_reaches_the_run_settings_and_a_bad_one_is_refused_before_compute",
     "tests/unit/test_demo.py::test_demo_writes_table_and_png",
+    "tests/unit/test_mpm_csv_units.py::test_a_tiny_run_names_every_unit_and_resuming_an_old_header_folder_rewrites_it_whole",
     "tests/unit/test_examples.py::test_calibrate_drft",
     "tests/unit/test_examples.py::test_mpm_quick_wheel",
     "tests/unit/test_examples.py::test_mpm_rft_map",

@@ -216,7 +216,12 @@ def references(
         help="Comma-separated parts of the set (default all): wheel, small-wheel, wheel-10-grousers, "
         "wheel-30-grousers, wheel-tall-grousers, runner, plate-drag, alpha-map.",
     ),
-    workers: int = typer.Option(None, min=1, help="Processes for the RFT-map plates (default: one per core)."),
+    workers: int = typer.Option(
+        None,
+        min=1,
+        help="MPM runs at once: each sweep's omegas and the RFT-map plates, each in a worker process "
+        "(default: one per core; 1: the sweeps' runs one after another in this process).",
+    ),
 ) -> None:
     """The MPM reference set of the reduced-order model (intrusim.figures.reference_set): omega sweeps
     of six bodies, plate drag and the medium's RFT map; every run kept under --out and reused.

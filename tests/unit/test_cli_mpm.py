@@ -1,6 +1,5 @@
 """CLI: `intrusim mpm run CONFIG.toml` and `intrusim mpm resume RUN_DIR`."""
 
-import csv
 import json
 import re
 
@@ -10,6 +9,7 @@ from cli_helpers import tiny_config
 from typer.testing import CliRunner
 
 from intrusim.cli import app
+from intrusim.mpm.io import read_timeseries
 
 runner = CliRunner()
 
@@ -17,7 +17,7 @@ TINY = tiny_config(0.02)
 
 
 def _times(run_dir):
-    return [float(r["time"]) for r in csv.DictReader((run_dir / "timeseries.csv").open())]
+    return read_timeseries(run_dir / "timeseries.csv")["time"].tolist()
 
 
 def test_run_writes_a_run_folder_and_resume_extends_it(tmp_path):
@@ -50,10 +50,9 @@ def test_run_on_its_own_folder_goes_on_a_later_end_extends_it_and_another_config
     whole = tmp_path / "whole"
     assert runner.invoke(app, ["mpm", "run", str(longer), "--out", str(whole)]).exit_code == 0
     assert _times(out) == _times(whole)
-    extended = list(csv.DictReader((out / "timeseries.csv").open()))
-    uninterrupted = list(csv.DictReader((whole / "timeseries.csv").open()))
-    for a, b in zip(extended, uninterrupted):
-        assert a["kinetic_energy"] == b["kinetic_energy"] and a["grain_mass"] == b["grain_mass"]
+    extended, uninterrupted = read_timeseries(out), read_timeseries(whole)
+    for key in ("kinetic_energy", "grain_mass"):
+        assert extended[key].tolist() == uninterrupted[key].tolist()
     assert json.loads((out / "config.json").read_text())["config"]["time"]["t_end"] == 0.035
     before = {q.name: q.read_bytes() for q in out.iterdir() if q.is_file()}
     for text, key in (
@@ -232,8 +231,8 @@ def test_steady_marks_its_folder_finished_and_refuses_another_configuration_on_i
     r = runner.invoke(app, ["mpm", "collect", str(tmp_path), "--from", "0.9", "--out", str(late)])
     assert r.exit_code == 0, r.output
     rec = SweepResult.from_csv(late).records[0]
-    rows = list(csv.DictReader((run_dir / "timeseries.csv").open()))
-    vx = [float(row["vx"]) for row in rows if float(row["time"]) > 0.9]
+    ts = read_timeseries(run_dir / "timeseries.csv")
+    vx = ts["vx"][ts["time"] > 0.9].tolist()
     assert rec["window_start"] > 0.9 and rec["velocity"] == pytest.approx(sum(vx) / len(vx), rel=1e-12)
     drops = [
         d for t, d in json.loads((run_dir / "progress.json").read_text())["drops"] if t > 0.9 and d == d

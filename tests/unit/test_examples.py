@@ -91,7 +91,7 @@ def test_mpm_rft_map(tmp_path):
     )
     assert res.returncode == 0, res.stdout + res.stderr
     header, row = (tmp_path / "alpha_map.csv").read_text().splitlines()
-    alpha_z = float(row.split(",")[header.split(",").index("alpha_z")])
+    alpha_z = float(row.split(",")[header.split(",").index("alpha_z_N_m3")])
     assert 1e3 < abs(alpha_z) < 1e6  # N/m^3: of the order of poppy seeds' 0.1-1 N/cm^3
     assert row.split(",")[header.split(",").index("contact")] == "nodes"  # the MPM's default contact
     bad = subprocess.run([sys.executable, str(EXAMPLES / "mpm_rft_map.py"), *args[:3], "--contact", "nodse"],

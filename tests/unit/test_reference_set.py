@@ -3,6 +3,7 @@ part made and reused, the tables and the index."""
 
 import csv
 import json
+import math
 
 import pytest
 from cli_helpers import refused, run
@@ -57,7 +58,8 @@ def test_a_quick_part_is_made_tabled_and_reused(tmp_path, monkeypatch):
     assert float(rows[1]["velocity_m_s"]) > float(rows[0]["velocity_m_s"]) > 0  # faster at the higher spin
     assert (out / "wheel-10-grousers_mpm.settings.json").is_file()
     plates = list(csv.DictReader((out / "alpha_map.csv").open()))
-    assert len(plates) == 1 and float(plates[0]["alpha_z"]) > 0  # pushed down: resisted upwards
+    assert len(plates) == 1 and float(plates[0]["alpha_z_N_m3"]) > 0  # pushed down: resisted upwards
+    assert float(plates[0]["beta_rad"]) == 0.0 and float(plates[0]["gamma_rad"]) == pytest.approx(math.pi / 2)
     index = json.loads((out / "references.json").read_text())
     assert index["quick"] and set(index["parts"]) == {"wheel-10-grousers", "alpha-map"}
     assert index["parts"]["wheel-10-grousers"]["failed_omega_rpm"] == []
@@ -67,3 +69,35 @@ def test_a_quick_part_is_made_tabled_and_reused(tmp_path, monkeypatch):
     r = run("mpm", "references", "--quick", "--only", "wheel-10-grousers,alpha-map", "--out", out, "--workers", 1)
     assert r.exit_code == 0, r.output
     assert len(done) == 3 and [p.stat().st_mtime_ns for p in done] == stamps
+
+
+def test_workers_sets_the_mpm_runs_at_once_for_the_sweeps_and_the_map(tmp_path, monkeypatch):
+    """``--workers N`` reaches each sweep (mpm_sweep_table's ``workers``) and the map's plates (the
+    Dask map's ``n_workers``); none given: None to both (one per core). No MPM runs here."""
+    from types import SimpleNamespace
+
+    import intrusim.analysis.sweep as sweep_mod
+    import intrusim.figures.mpm as figures_mpm
+
+    seen: list[tuple[str, object]] = []
+
+    def fake_table(scn, omegas, quick, root, items, csv_path, workers=None):
+        seen.append(("sweep", workers))
+        return SimpleNamespace(records=[])
+
+    def fake_map(fn, args, n_workers=None, **kwargs):
+        seen.append(("map", n_workers))
+        return []
+
+    monkeypatch.setattr(figures_mpm, "mpm_sweep_table", fake_table)
+    monkeypatch.setattr(sweep_mod, "dask_map", fake_map)
+    monkeypatch.setattr(rs, "MAP_QUICK_DEG", ((0.0, 90.0),))
+    rs.make_references(tmp_path, quick=True, only=["wheel", "runner", "alpha-map"], workers=3, echo=lambda s: None)
+    assert seen == [("sweep", 3), ("sweep", 3), ("map", 3)]
+    seen.clear()
+    r = run("mpm", "references", "--quick", "--only", "wheel,alpha-map", "--out", tmp_path, "--workers", 2)
+    assert r.exit_code == 0, r.output
+    assert seen == [("sweep", 2), ("map", 2)]
+    seen.clear()
+    rs.make_references(tmp_path, quick=True, only=["small-wheel"], echo=lambda s: None)
+    assert seen == [("sweep", None)]

@@ -11,7 +11,8 @@
 Every run is kept under the root folder (a finished one is reused, an interrupted locomotion run
 resumes from its checkpoint), so the command can be stopped and run again. It writes, in the root,
 ``NAME_mpm.csv`` per sweep (the table ``intrusim calibrate --mpm`` reads, its runs' settings beside
-it), ``plate_drag.csv``, ``alpha_map.csv`` and ``references.json`` (what was made, from what
+it), ``plate_drag.csv``, ``alpha_map.csv`` (each column's unit in its name:
+:func:`intrusim.mpm.rft_map.alpha_map_row`) and ``references.json`` (what was made, from what
 settings, and which points failed). ``quick``: 2 cm cells for the bodies, 5 mm for the plates and
 the map, and fewer omegas, speeds and directions: minutes, for a trial or a test.
 """
@@ -134,6 +135,8 @@ def make_references(
 ) -> dict[str, Any]:  # fmt: skip
     """Make (or reuse) every run of the set's parts ``only`` (None: all) under ``root`` and write
     their tables there (module docstring). Returns the index written to ``root/references.json``.
+    ``workers``: MPM runs at once, for each sweep's omegas (:func:`intrusim.figures.mpm.mpm_sweep`;
+    1: one after another in this process) and for the map's plates (None: one per core).
 
     A failed point is reported and left out of its table; the others are kept."""
     from intrusim.analysis.sweep import dask_map
@@ -151,7 +154,7 @@ def make_references(
         omegas = sweep.quick_omegas if quick else sweep.omegas
         echo(f"{sweep.name} ({scn.name}): MPM at {', '.join(f'{w:g}' for w in omegas)} RPM")
         csv = root / f"{sweep.name}_mpm.csv"
-        res = mpm_sweep_table(scn, omegas, quick, root, sweep.settings_items(quick), csv)
+        res = mpm_sweep_table(scn, omegas, quick, root, sweep.settings_items(quick), csv, workers=workers)
         failed = [float(r["omega_rpm"]) for r in res.records if not r["ok"]]
         index["parts"][sweep.name] = {"scenario": scn.name, "table": csv.name, "omega_rpm": list(omegas),
                                       "failed_omega_rpm": failed}  # fmt: skip
@@ -160,6 +163,8 @@ def make_references(
         pts = drag_points(quick, root / "plates", progress=True)
         index["parts"]["plate-drag"] = {"table": _write_rows(root / "plate_drag.csv", pts).name, "points": len(pts)}
     if "alpha-map" in names:
+        from intrusim.mpm.rft_map import alpha_map_row
+
         cases = alpha_map_cases(quick)
         echo(f"alpha-map: {len(cases)} plates")
         folder = root / "alpha_map"
@@ -174,8 +179,8 @@ def make_references(
         rows = [r for r in rows if r is not None]
         for e in errors:
             echo(f"alpha-map: FAILED {e}")
-        index["parts"]["alpha-map"] = {"table": _write_rows(root / "alpha_map.csv", rows).name, "plates": len(rows),
-                                       "failed": errors}  # fmt: skip
+        table = _write_rows(root / "alpha_map.csv", [alpha_map_row(r) for r in rows])  # the units in the header
+        index["parts"]["alpha-map"] = {"table": table.name, "plates": len(rows), "failed": errors}
     from intrusim.mpm.io import atomic_write_bytes
 
     path = root / "references.json"

@@ -360,6 +360,76 @@ def write_csv(path: Path, rows: list[dict]) -> None:
     atomic_write_bytes(Path(path), buf.getvalue().encode())
 
 
+# timeseries.csv: the unit of each of the solver's row keys, SI, written into the column's name
+# (``fx`` -> ``fx_N``; docs/mpm.md, docs/getting-started.md "CSV files"); "" = a count (``step``).
+# A second and later body's keys carry a prefix (``b1_x`` -> ``b1_x_m``). The rows in memory and in
+# a checkpoint keep the short keys; a file written before the units were in the names has them as
+# its header, and :func:`read_timeseries` reads both to the short keys.
+TIMESERIES_UNITS: dict[str, str] = {
+    "time": "s", "step": "", "x": "m", "z": "m", "theta": "rad", "vx": "m_s", "vz": "m_s", "omega": "rad_s",
+    "fx": "N", "fz": "N", "moment": "N_m", "fx_ahead": "N", "fz_ahead": "N", "moment_ahead": "N_m",
+    "kinetic_energy": "J", "grain_mass": "kg", "outflow_mass": "kg",
+}  # fmt: skip
+_TIMESERIES_KEYS = {f"{k}_{u}": k for k, u in TIMESERIES_UNITS.items() if u}
+
+
+def _body_prefix(name: str) -> tuple[str, str]:
+    """("b1_", "x") for "b1_x" (a later body's column), ("", name) otherwise."""
+    head, _, rest = name.partition("_")
+    if head[:1] == "b" and head[1:].isdigit() and rest:
+        return head + "_", rest
+    return "", name
+
+
+def timeseries_column(key: str) -> str:
+    """The ``timeseries.csv`` column of a solver row key: the key with its unit (``vx`` -> ``vx_m_s``,
+    ``b1_fz`` -> ``b1_fz_N``); a key without a unit in :data:`TIMESERIES_UNITS` as it is."""
+    pre, base = _body_prefix(key)
+    unit = TIMESERIES_UNITS.get(base, "")
+    return f"{pre}{base}_{unit}" if unit else key
+
+
+def timeseries_key(column: str) -> str:
+    """The solver row key of a ``timeseries.csv`` column, with its unit (``vx_m_s``) or, in a file
+    written before the units were in the names, without (``vx``): ``vx`` either way."""
+    pre, base = _body_prefix(column)
+    return pre + _TIMESERIES_KEYS.get(base, base)
+
+
+def write_timeseries(path: Path, rows: list[dict]) -> None:
+    """A run's rows (short keys) as ``timeseries.csv``, each column named with its unit
+    (:func:`timeseries_column`), atomically rewritten whole (:func:`write_csv`)."""
+    write_csv(path, [{timeseries_column(k): v for k, v in row.items()} for row in rows])
+
+
+def read_timeseries(path: str | Path) -> dict[str, np.ndarray]:
+    """A run folder's ``timeseries.csv`` (the file, or the folder that holds it) as one float array
+    per column, keyed by the solver's short keys (``time``, ``x``, ``fx`` ...; SI: s, m, N ...),
+    whether the header names the units (``time_s``, ``x_m``, ``fx_N``) or not (files written
+    before). An empty cell (a column added when an older run was extended) is NaN. An InputError
+    if there is no such file or it has no header."""
+    from intrusim.errors import InputError
+
+    path = Path(path)
+    if path.is_dir():
+        path = path / "timeseries.csv"
+    try:
+        with path.open(newline="") as f:
+            reader = csv.reader(f)
+            header = next(reader, None)
+            rows = list(reader)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file (a run folder's timeseries.csv)") from None
+    if not header:
+        raise InputError(f"{path} is empty: not a run's time series")
+    data = np.full((len(rows), len(header)), np.nan)
+    for i, row in enumerate(rows):
+        for j, cell in enumerate(row[: len(header)]):
+            if cell.strip():
+                data[i, j] = float(cell)
+    return {timeseries_key(name): data[:, j].copy() for j, name in enumerate(header)}
+
+
 def write_vtk(path: Path, fields: dict[str, np.ndarray]) -> None:
     """Particle snapshot as a VTK point cloud (meshio); needs 'x' (N, 2) and point fields."""
     import meshio

@@ -196,7 +196,66 @@ def map_cases(betas: list[float], gammas: list[float], **common) -> list[PlateMa
 
 
 def case_record(case: PlateMapCase) -> dict:
-    """The case's parameters as a flat dict (for CSV rows)."""
+    """The case's parameters as a flat dict (for CSV rows: :func:`alpha_map_row` names their units)."""
     d = asdict(case)
     d["domain"] = f"{case.domain[0]}x{case.domain[1]}"
     return d
+
+
+# alpha_map.csv: the unit of each key of a plate's record (case_record, measure_alpha, steps), SI,
+# written into the column's name (``alpha_z`` -> ``alpha_z_N_m3``; docs/getting-started.md "CSV
+# files"); "" = dimensionless, a count or text. The records keep the short keys; a map written
+# before the units were in the names has them as its header, and :func:`read_alpha_map` reads both.
+ALPHA_MAP_UNITS: dict[str, str] = {
+    "beta": "rad", "gamma": "rad", "depth": "m", "plate_length": "m", "plate_thickness": "m", "speed": "m_s",
+    "travel": "m", "cell_size": "m", "domain": "m", "bed_height": "m", "rho_c": "kg_m3", "mu_s": "", "mu_w": "",
+    "youngs_modulus": "Pa", "contact": "", "contact_band_cells": "", "ramp_time": "s", "grid_offset": "cells",
+    "fluidity_diameter": "m", "alpha_x": "N_m3", "alpha_z": "N_m3", "alpha_x_std": "N_m3", "alpha_z_std": "N_m3",
+    "depth_mean": "m", "steps": "", "wall_s": "",
+}  # fmt: skip
+ALPHA_MAP_TEXT = ("contact", "domain")  # read back as text (domain: "WIDTHxHEIGHT" in m)
+_ALPHA_MAP_KEYS = {f"{k}_{u}": k for k, u in ALPHA_MAP_UNITS.items() if u}
+
+
+def alpha_map_column(key: str) -> str:
+    """The ``alpha_map.csv`` column of a record key: with its unit (``beta`` -> ``beta_rad``)."""
+    unit = ALPHA_MAP_UNITS.get(key, "")
+    return f"{key}_{unit}" if unit else key
+
+
+def alpha_map_key(column: str) -> str:
+    """The record key of an ``alpha_map.csv`` column, with its unit (``alpha_z_N_m3``) or, in a map
+    written before the units were in the names, without (``alpha_z``): ``alpha_z`` either way."""
+    return _ALPHA_MAP_KEYS.get(column, column)
+
+
+def alpha_map_row(record: dict) -> dict:
+    """A plate's record (short keys) under its ``alpha_map.csv`` column names (:func:`alpha_map_column`)."""
+    return {alpha_map_column(k): v for k, v in record.items()}
+
+
+def read_alpha_map(path) -> dict[str, np.ndarray]:
+    """An ``alpha_map.csv`` (``intrusim mpm references``, ``examples/mpm_rft_map.py run``) as one array
+    per column keyed by the records' short keys (``beta``, ``gamma`` rad, ``alpha_x``, ``alpha_z``
+    N/m^3 ...), whether its header names the units or not (maps written before): floats (an empty
+    cell NaN), :data:`ALPHA_MAP_TEXT` as text. An InputError if the file is missing or has no rows."""
+    import csv
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        with path.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file (an RFT map's alpha_map.csv)") from None
+    if not rows:
+        raise InputError(f"{path} holds no plates")
+    out: dict[str, np.ndarray] = {}
+    for column in rows[0]:
+        key = alpha_map_key(column)
+        cells = [r[column] or "" for r in rows]
+        if key in ALPHA_MAP_TEXT:
+            out[key] = np.array(cells, dtype=object)
+        else:
+            out[key] = np.array([float(c) if c.strip() else np.nan for c in cells])
+    return out

@@ -505,7 +505,7 @@ class Solver:
         if self.run_dir is not None:
             if checkpoint_end and ckpt and self.step_count % ckpt != 0:  # the end state: a longer run goes on from here
                 self.checkpoint_run_folder()
-            mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
+            mpm_io.write_timeseries(self.run_dir / "timeseries.csv", self.rows)
         return self.rows
 
     def write_snapshot(self) -> Path:
@@ -598,7 +598,7 @@ class Solver:
             arrays[FLUIDITY_KEY] = self.fluidity.to_numpy()
         mpm_io.save_checkpoint(path, arrays, meta, require_finite=require_finite)
         if self.run_dir is not None and path.parent == self.run_dir:
-            mpm_io.write_csv(self.run_dir / "timeseries.csv", self.rows)
+            mpm_io.write_timeseries(self.run_dir / "timeseries.csv", self.rows)
 
     def load_checkpoint(self, path: Path) -> None:
         """Restore the state saved by :meth:`save_checkpoint` (same config: a checkpoint of another

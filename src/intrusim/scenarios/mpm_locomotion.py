@@ -683,7 +683,7 @@ def summarise_run(
     revolutions from the end within it); the rear surface drop is then the mean of the run's own
     measurements after ``t_start`` (``progress.json``, one per 0.05 s chunk) where the folder has them.
     """
-    import csv
+    from intrusim.mpm.io import read_timeseries
 
     run_dir = Path(run_dir)
     ts = run_dir / "timeseries.csv"
@@ -695,9 +695,9 @@ def summarise_run(
         settings, body = MPMSettings.model_validate(info["settings"]), info["body"]
     settings = settings or paper_settings(body)
     cfg = json.loads((run_dir / "config.json").read_text())["config"]
-    with ts.open() as f:
-        rows = [r for r in csv.DictReader(f) if t_end is None or float(r["time"]) <= t_end + 1e-9]
-    series = {k: np.array([float(r[k]) for r in rows]) for k in SERIES_KEYS}
+    columns = read_timeseries(ts)  # the columns with their units in the header or without (older runs)
+    keep = np.ones(len(columns["time"]), bool) if t_end is None else columns["time"] <= t_end + 1e-9
+    series = {k: columns[k][keep] for k in SERIES_KEYS}
     outline = np.asarray(cfg["intruders"][0]["vertices"], float)
     if signed_area(outline) < 0:
         outline = outline[::-1]
