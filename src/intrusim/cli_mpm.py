@@ -115,10 +115,14 @@ def steady(
 
 
 def steady_line(st: MPMSteadyState) -> str:
-    """The one-line summary of an MPM locomotion run: "steady state over ..." only when the
-    window settled (its halves' means within 5 %, ``MPMSteadyState.settled``); otherwise the
-    numbers are called window averages and the drift and the way to extend the run are named."""
+    """The one-line summary of an MPM locomotion run: "steady state over ..." only when the run
+    settled (v and sinkage each within the test's tolerance over its last two revolutions,
+    :mod:`intrusim.analysis.settling`); otherwise the numbers are called window averages, what the
+    body was still doing is said (still sinking at X mm/s ...) and the way to extend the run named."""
+    judged = st.settling
     head = f"steady state over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
+    if st.settled and judged is not None:
+        head += f" ({judged.text})"
     if not st.settled:
         h = st.meta.get("cell_size")
         finer = "" if h is None else f", or halve the cells, --set cell_size={h / 2:.4g}"
@@ -128,8 +132,11 @@ def steady_line(st: MPMSteadyState) -> str:
             if st.meta.get("scenario") == "grousered_wheel"
             else ""
         )
+        what = judged.text if judged is not None else f"the window's halves differ by {st.drift:.1%}"
+        if st.meta.get("stop") == "wall":
+            what += "; stopped at the wall: --set 'treadmill=[x_trigger, x_target]' keeps the bed under it"
         head = (
-            f"NOT settled (the window's halves differ by {st.drift:.1%}; extend the run with --set t_max=T "
+            f"NOT settled ({what}; extend the run with --set t_max=T (--set settle_tol=0.01 stops it once settled) "
             f"or start its window later with --set settle_time=S, on the same --out{finer}; docs/convergence.md"
             f"{known}): averages over t = {st.window[0]:.2f}-{st.window[1]:.2f} s"
         )

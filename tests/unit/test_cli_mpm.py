@@ -305,29 +305,31 @@ def test_a_folder_written_before_a_setting_existed_goes_on_when_the_setting_is_i
 
 
 def test_the_summary_line_calls_a_drifting_window_an_average_not_a_steady_state():
-    """A run whose window's halves differ by 5 % or more (``settled`` False) is reported as "NOT
-    settled" with its drift and the way to extend it, never as a steady state."""
+    """A run that did not pass the settle test (v and sinkage within 1 % over its last two
+    revolutions) is reported as "NOT settled" with what it is still doing (still sinking at X mm/s)
+    and the way to extend it, never as a steady state."""
     from intrusim.cli_mpm import steady_line
     from intrusim.scenarios.mpm_locomotion import steady_from_series
 
-    t = np.linspace(0.0, 3.0, 301)
+    t = np.linspace(0.0, 6.0, 601)  # omega 3 rad/s: revolutions of 2.09 s, two of them after 0.65 s
     outline = np.array([[0.1, 0.0], [0.0, 0.1], [-0.1, 0.0], [0.0, -0.1]])
     base = {"time": t, "x": 0.2 * t, "theta": -3.0 * t, "vz": 0 * t, "omega": -3.0 + 0 * t}
     base.update(fx=0 * t, fz=0 * t, moment=0 * t)
     flat = steady_from_series({**base, "z": 0.36 + 0 * t, "vx": 0.2 + 0 * t}, outline, 0.3, 0.65, False, [])
     sinking = steady_from_series({**base, "z": 0.36 - 0.01 * t, "vx": 0.25 - 0.04 * t}, outline, 0.3, 0.65, False, [])
-    for st in (flat, sinking):
+    short = steady_from_series({**base, "z": 0.36 + 0 * t, "vx": 0.2 + 0 * t}, outline, 0.3, 2.0, False, [])
+    for st in (flat, sinking, short):
         st.meta["particles"] = 10
-    assert flat.settled and steady_line(flat).startswith("steady state over t = 0.66-3.00 s: v = 0.2000 m/s")
-    assert not sinking.settled
+    assert flat.settled and flat.outcome == "settled"
+    assert steady_line(flat).startswith("steady state over t = 0.66-6.00 s (settled: v and sinkage moved 0.00%")
+    assert ": v = 0.2000 m/s" in steady_line(flat)
+    assert not short.settled and short.outcome == "too short"  # 4 s after 2 s: not two revolutions
+    assert steady_line(short).startswith("NOT settled (too short to judge")
+    assert not sinking.settled and sinking.outcome == "sinking"
     line = steady_line(sinking)
-    assert line.startswith("NOT settled (the window's halves differ by ") and "steady state" not in line
-    assert (
-        f"{sinking.drift:.1%}" in line
-        and "--set t_max=T" in line
-        and "--set settle_time=S" in line
-        and "averages over t = 0.66-3.00 s" in line
-    )
+    assert line.startswith("NOT settled (still sinking at 9.97 mm/s") and "steady state" not in line
+    assert sinking.settling.sinkage_rate == pytest.approx(0.01, rel=0.01)  # the centre drops 10 mm/s
+    assert "--set t_max=T" in line and "--set settle_time=S" in line and "averages over t = 0.66-6.00 s" in line
     assert "cell_size" not in line  # a state without its cell size names no finer one
     sinking.meta["cell_size"] = 0.005
     assert "halve the cells, --set cell_size=0.0025" in steady_line(sinking)

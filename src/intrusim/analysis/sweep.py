@@ -27,7 +27,7 @@ from intrusim._checks import InputError
 from intrusim.analysis.steady import run_steady
 from intrusim.errors import PROGRAMMING_ERRORS
 
-TEXT_FIELDS = ("error", "retried")  # the CSV columns read back as text
+TEXT_FIELDS = ("error", "retried", "outcome")  # the CSV columns read back as text
 FIELDS = ("omega_rpm", "ok", "velocity", "sinkage", "slip", "velocity_std", "sinkage_std", "drift", "settled", "error")
 
 # The CSV column of a record key, SI with the unit in its name (docs/getting-started.md, "CSV files"),
@@ -47,6 +47,9 @@ CSV_COLUMNS: dict[str, tuple[str, float]] = {
     "wall_time": ("wall_time_s", 1.0),
     "window_start": ("window_start_s", 1.0),
     "window_end": ("window_end_s", 1.0),
+    "sinkage_rate": ("sinkage_rate_m_s", 1.0),
+    "acceleration": ("acceleration_m_s2", 1.0),
+    "settle_window": ("settle_window_s", 1.0),
 }
 RECORD_KEYS: dict[str, tuple[str, float]] = {col: (key, f) for key, (col, f) in CSV_COLUMNS.items()}
 # the standard columns of a sweep CSV, in order (then any other, by name)

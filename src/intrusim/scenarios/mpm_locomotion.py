@@ -31,6 +31,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from intrusim._checks import InputError, finite
 from intrusim.analysis.free_surface import rear_contact_drop
+from intrusim.analysis.settling import SETTLE_TOL, Settling, settle_window, settling
 from intrusim.analysis.steady import outline_sinkage, window_drift
 from intrusim.geometry import posed_polygon, signed_area
 from intrusim.mpm.config import DEFAULT_CONTACT, Contact, FluidityConfig, MuIConfig, Precision, Shape
@@ -64,6 +65,11 @@ class MPMSettings(Config):
         23.0 kg, since rig friction scales with the carried mass (small wheel: 0.5 N); runner: 0.
     ramp_time : s, linear spin-up of omega; settle_time : s, transient excluded from averages.
     t_max : s, longest run; wall_margin : m, stop when the body's front is this close to the wall.
+    settle_tol : the stop test (:mod:`intrusim.analysis.settling`): the run ends as soon as its mean v
+        and mean sinkage each moved by less than this fraction between its last two revolutions,
+        t_max then the cap, and the answer is the last revolution's means; None (the default): the
+        run lasts t_max and is averaged from ramp_time + settle_time. Either way the run's outcome
+        (settled, still sinking, ...) is judged by this test (at 1 % when None).
     treadmill : (x_trigger, x_target), m, or None. A moving window: at a chunk's end with the body
         centre past x_trigger, the scene moves back a whole number of cells to put it at (just
         above) x_target, the rut that leaves the left side is dropped and fresh bed comes in on the
@@ -109,6 +115,7 @@ class MPMSettings(Config):
     ramp_time: float = Field(0.15, ge=0.0)
     settle_time: float = Field(0.5, ge=0.0)
     t_max: float = Field(4.0, gt=0.0)
+    settle_tol: float | None = Field(None, gt=0.0, lt=1.0)
     wall_margin: float = Field(0.08, ge=0.0)
     treadmill: tuple[float, float] | None = None
     chunk: float = Field(0.05, gt=0.0)
@@ -322,14 +329,21 @@ class MPMSteadyState:
     steps: int
     series: dict[str, np.ndarray] = field(repr=False)
     meta: dict[str, Any] = field(default_factory=dict, repr=False)
+    settling: Settling | None = field(default=None, repr=False)  # the run's outcome (settled = its test)
 
-    def summary(self) -> dict[str, float]:
+    @property
+    def outcome(self) -> str:
+        """What the run did by its end (:data:`~intrusim.analysis.settling.OUTCOMES`)."""
+        return self.settling.outcome if self.settling is not None else ("settled" if self.settled else "unknown")
+
+    def summary(self) -> dict[str, Any]:
         return {
             "omega": self.omega, "velocity": self.velocity, "sinkage": self.sinkage, "slip": self.slip,
             "velocity_std": self.velocity_std, "sinkage_std": self.sinkage_std, "drift": self.drift,
             "surface_drop": self.surface_drop, "surface_drop_std": self.surface_drop_std,
             "wall_time": self.wall_time, "steps": float(self.steps), "settled": float(self.settled),
             "window_start": self.window[0], "window_end": self.window[1],
+            **(self.settling.summary() if self.settling is not None else {}),
         }  # fmt: skip
 
 
@@ -491,6 +505,13 @@ def check_run(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: flo
     t_avg = s.ramp_time + s.settle_time
     if t_avg >= s.t_max:
         raise InputError(f"ramp_time + settle_time ({t_avg} s) must be shorter than t_max ({s.t_max} s)")
+    if s.settle_tol is not None:
+        need = t_avg + 2 * settle_window(omega_rpm * 2 * math.pi / 60)
+        if s.t_max < need:
+            raise InputError(
+                f"t_max ({s.t_max:g} s) is shorter than the settle test needs at {omega_rpm:g} RPM: ramp_time + "
+                f"settle_time and two revolutions, {need:.3g} s (--set t_max=..., the cap of a run that stops once settled)"
+            )
     if s.treadmill is not None:  # the body's size: the settings' own validator does not know it
         radius = float(np.max(np.linalg.norm(np.asarray(cfg.intruders[0].vertices), axis=1)))
         trigger, target = s.treadmill
@@ -572,6 +593,18 @@ def run_mpm_steady(
     )  # a run resumed at a chunk's end from the checkpoint written before that chunk's shift
     wall0 = time.perf_counter() - wall_before
     near_wall = lambda: body.state.x + radius > s.domain[0] - s.wall_margin  # noqa: E731
+    omega = omega_rpm * 2 * math.pi / 60
+    test_from = t_avg + 2 * settle_window(omega) if s.settle_tol is not None else math.inf
+
+    def settled_now() -> bool:
+        """The stop test on the samples so far (MPMSettings.settle_tol)."""
+        if solver.t < test_from - 0.5 * solver.dt:
+            return False
+        t, z, th, vx = (np.array([r[k] for r in solver.rows], float) for k in ("time", "z", "theta", "vx"))
+        sink = outline_sinkage(outline, z, th, s.bed_depth)
+        return settling(t, vx, sink, omega, t_avg, s.settle_tol).settled  # type: ignore[arg-type]
+
+    stop = "t_max"
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
         t_next = min(t_next + step_t, s.t_max)
         solver.run(t_end=t_next, checkpoint_end=False)  # checkpoints on schedule; the end state below
@@ -593,7 +626,12 @@ def run_mpm_steady(
             sample()
         if run_dir is not None:
             write_progress(run_dir, drops, time.perf_counter() - wall0)
+        if settled_now():
+            stop = "settled"
+            break
         treadmill_shift(solver, body, s.treadmill)
+    if stop != "settled" and near_wall():
+        stop = "wall"
     if run_dir is not None:  # a longer run on this folder (a later t_max) goes on from here
         solver.checkpoint_run_folder()
     wall = time.perf_counter() - wall0
@@ -608,10 +646,12 @@ def run_mpm_steady(
         "fields": [str(p) for p in kept],
         "x_offset": solver.x_offset,
         "dropped_points": solver.dropped["points"],
+        "stop": stop,
     }
     return steady_from_series(
-        series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta
-    )
+        series, outline, s.bed_depth, t_avg, scenario.body == "runner", drops, wall, solver.step_count, meta,
+        s.settle_tol,
+    )  # fmt: skip
 
 
 SERIES_KEYS = ("time", "x", "z", "theta", "vx", "vz", "omega", "fx", "fz", "moment")
@@ -627,8 +667,12 @@ def steady_from_series(
     wall_time: float = math.nan,
     steps: int = 0,
     meta: dict[str, Any] | None = None,
+    settle_tol: float | None = None,
 ) -> MPMSteadyState:
-    """Average an MPM locomotion time series over t > ``t_avg`` (see the module docstring)."""
+    """Average an MPM locomotion time series over t > ``t_avg`` (see the module docstring), and
+    judge whether it settled (:func:`~intrusim.analysis.settling.settling`, at ``settle_tol``, 1 %
+    when None). With ``settle_tol`` given and the run settled, the average is over its last
+    revolution (the window the test passed on)."""
     series = dict(series)
     radius = float(np.max(np.linalg.norm(outline, axis=1)))
     series["sinkage"] = outline_sinkage(outline, series["z"], series["theta"], bed_depth)
@@ -639,7 +683,12 @@ def steady_from_series(
             f"at {t_avg:.3g} s: use a longer bed, a smaller start_x or a shorter settle_time"
         )
     omega = abs(float(series["omega"][-1]))
-    sel = _window_mask(t, t_avg, omega, whole_revolutions)
+    # buried: the circle the turning body sweeps wholly under the surface
+    judged = settling(t, series["vx"], series["sinkage"], omega, t_avg, settle_tol or SETTLE_TOL, 2.0 * radius)
+    if settle_tol is not None and judged.settled:
+        sel = t > judged.t_end - judged.window
+    else:
+        sel = _window_mask(t, t_avg, omega, whole_revolutions)
     v, sk = series["vx"][sel], series["sinkage"][sel]
     v_mean = float(v.mean())
     drift = window_drift(v, sk, radius)
@@ -647,11 +696,11 @@ def steady_from_series(
     dh_ok = dh[np.isfinite(dh)]
     return MPMSteadyState(
         omega=omega, velocity=v_mean, sinkage=float(sk.mean()), slip=1.0 - v_mean / (radius * omega),
-        velocity_std=float(v.std()), sinkage_std=float(sk.std()), drift=float(drift), settled=bool(drift < 0.05),
+        velocity_std=float(v.std()), sinkage_std=float(sk.std()), drift=float(drift), settled=judged.settled,
         surface_drop=float(dh_ok.mean()) if len(dh_ok) else math.nan,
         surface_drop_std=float(dh_ok.std()) if len(dh_ok) else math.nan,
         window=(float(t[sel][0]), float(t[-1])), radius=radius, wall_time=wall_time, steps=steps,
-        series=series, meta=meta or {},
+        series=series, meta=meta or {}, settling=judged,
     )  # fmt: skip
 
 
@@ -712,14 +761,19 @@ def summarise_run(
     t_avg = settings.ramp_time + settings.settle_time if t_start is None else float(t_start)
     return steady_from_series(
         series, outline, settings.bed_depth, t_avg, body == "runner", drops, meta={"run_dir": str(run_dir)},
+        settle_tol=settings.settle_tol,
     )  # fmt: skip
 
 
 def write_result(run_dir: str | Path, st: MPMSteadyState) -> Path:
     """Mark a run folder finished: ``result.json`` holds the steady-state summary."""
     path = Path(run_dir) / "result.json"
+    said = {} if st.settling is None else {"outcome_text": st.settling.text}
     atomic_write_bytes(
-        path, json.dumps({**st.summary(), "window": list(st.window), "meta": st.meta}, indent=1, default=str).encode()
+        path,
+        json.dumps(
+            {**st.summary(), **said, "window": list(st.window), "meta": st.meta}, indent=1, default=str
+        ).encode(),
     )
     return path
 
