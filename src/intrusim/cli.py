@@ -320,7 +320,8 @@ def calibrate(
         False, help="Without --mpm: the coarse, short MPM runs (2 cm cells): minutes, not hours."
     ),
     runs: Optional[Path] = typer.Option(
-        None, help="Without --mpm: folder of the MPM run folders (default runs/mpm or runs/mpm-quick)."
+        None,
+        help="Without --mpm: folder of the MPM run folders (default OUT/mpm-runs; finished runs there are reused).",
     ),
     settings: Optional[Path] = typer.Option(
         None, "--settings", help="Without --mpm: MPM settings TOML file of the runs (as `mpm sweep --settings`)."
@@ -402,7 +403,8 @@ def demo(
     out: Path = typer.Option(Path("intrusim_demo"), help="Folder for demo.csv and demo.png."),
     mpm: bool = typer.Option(True, help="Add one quick MPM point (30 RPM, 2 cm cells)."),
 ) -> None:
-    """The paper's wheel under RFT, DRFT (10-90 RPM) and a quick MPM point: a table and a PNG."""
+    """The paper's wheel under RFT, the paper's DRFT, the recommended calibrated DRFT (10-90 RPM) and a
+    quick MPM point: a table, each model's measured error, and a PNG."""
     from intrusim.demo import run_demo
 
     result = run_demo(out, mpm_omega_rpm=30.0 if mpm else None)

@@ -231,7 +231,7 @@ def _fit_warnings(res: Any, say: Say, warn: Say) -> None:
     for p in res.params:
         v, (lo, hi) = res.values[p], res.bounds[p]
         se = errors.get(p, math.nan)
-        near = se if math.isfinite(se) else 0.02 * (hi - lo)  # within its own uncertainty of the bound
+        near = min(se, 0.02 * (hi - lo)) if math.isfinite(se) else 0.02 * (hi - lo)  # within its error, at most 2 %
         if min(v - lo, hi - v) <= max(near, 1e-3 * (hi - lo)):
             warn(
                 f"{p} = {v:.4g} is at a bound of its range [{lo:g}, {hi:g}]: the data push it further; not a measured value"
