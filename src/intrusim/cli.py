@@ -319,6 +319,11 @@ def calibrate(
     quick: bool = typer.Option(
         False, help="Without --mpm: the coarse, short MPM runs (2 cm cells): minutes, not hours."
     ),
+    preset: Optional[str] = typer.Option(
+        None,
+        help="Without --mpm: the MPM runs' base settings, paper (the default), quick (as --quick) or reference "
+        "(the nonlocal law at a fifth of the body's thinnest feature, run until settled: hours a point; docs/mpm.md).",
+    ),
     runs: Optional[Path] = typer.Option(
         None,
         help="Without --mpm: folder of the MPM run folders (default OUT/mpm-runs; finished runs there are reused).",
@@ -385,7 +390,7 @@ def calibrate(
     from intrusim.analysis.calibration_job import CalibrationJob, run_calibration
 
     job = CalibrationJob(
-        scenario=scenario, mpm=mpm, mpm_omegas=mpm_omegas, quick=quick, runs=runs, settings=settings, sets=list(sets),
+        scenario=scenario, mpm=mpm, mpm_omegas=mpm_omegas, quick=quick, preset=preset, runs=runs, settings=settings, sets=list(sets),
         params=params, fix=list(fix), structural=structural, mpm_push=mpm_push, psi_from_dh=psi_from_dh,
         check=list(check), model=model, settled_only=settled_only, starts=starts, out=out, name=name,
         rft_coefficients=rft_coefficients, leave_one_out=leave_one_out, workers=workers,

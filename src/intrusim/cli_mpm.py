@@ -47,16 +47,18 @@ def _case(
     settings: Path | None = None,
     sets: list[str] | tuple[str, ...] = (),
     threads: int | None = None,
+    preset: str | None = None,
 ):
-    """The MPM locomotion case of a command: the base settings of the scenario's body (quick or
-    paper), then the ``--settings`` file, then each ``--set`` in order, then ``threads``; all
-    validated as one (MPMSettings), so a bad key or value is refused before any compute."""
+    """The MPM locomotion case of a command: the base settings of the scenario's body (``preset``:
+    paper, quick or reference; ``quick``: the quick one), then the ``--settings`` file, then each
+    ``--set`` in order, then ``threads``; all validated as one (MPMSettings), so a bad key or value
+    is refused before any compute."""
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.mpm_locomotion import MPMLocomotion
     from intrusim.scenarios.mpm_settings import case_settings
 
     sc = load_scenario(scenario)  # a shipped name, or the user's own wheel or runner (the TOML rft / drft take)
-    s = case_settings(sc, quick, settings, sets or ())
+    s = case_settings(sc, quick, settings, sets or (), preset=preset)
     if threads is not None:
         if threads < 1:
             raise InputError(f"--threads must be >= 1, got {threads}")
@@ -64,6 +66,11 @@ def _case(
     return MPMLocomotion(scenario=sc, mpm=s, out_root=None if out is None else str(out))
 
 
+PRESET_HELP = (
+    "Base settings: paper (the paper's set-up: its rate-independent law, 5 mm cells, 1 m box; the default), "
+    "quick (as --quick: 2 cm cells, short: trends only) or reference (the nonlocal law at a fifth of the body's "
+    "thinnest feature, a bed that follows the body, run until settled: hours of CPU a point; docs/convergence.md)."
+)
 SCENARIO_HELP = (
     f"One of {', '.join(SCENARIOS)}, or a scenario .toml file (as for `intrusim steady`; MPM settings by its body)."
 )
@@ -74,6 +81,7 @@ def steady(
     scenario: str = typer.Option("wheel", help=SCENARIO_HELP),
     omega_rpm: float = typer.Option(30.0, help="Spin, RPM (forward rolling)."),
     quick: bool = typer.Option(False, help="Coarse grid (2 cm cells), short run: seconds, not minutes."),
+    preset: str = typer.Option(None, help=PRESET_HELP),
     out: Path = typer.Option(
         None,
         help="Folder of the run folder (time series, config, checkpoints, fields). A larger t_max on a finished run's folder extends that run from its checkpoint.",
@@ -84,7 +92,7 @@ def steady(
 ) -> None:
     """One MPM locomotion run to steady state; prints v, sinkage, slip and the rear surface drop."""
     try:
-        case = _case(scenario, quick, out, settings, sets, threads)
+        case = _case(scenario, quick, out, settings, sets, threads, preset)
         _finite("omega_rpm", omega_rpm)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
@@ -154,6 +162,7 @@ def sweep(
         "10,20,30,40,50,60,70,80,90", help="RPM list 'a,b,c' or range 'start:stop:step' (as `intrusim sweep`)."
     ),
     quick: bool = typer.Option(False, help="Coarse grid, short runs."),
+    preset: str = typer.Option(None, help=PRESET_HELP),
     out: Path = typer.Option(Path("runs/mpm"), help="Folder for the sweep CSV and one run folder per point."),
     settings: Path = typer.Option(None, "--settings", help=SETTINGS_HELP),
     sets: list[str] = typer.Option([], "--set", help=SET_HELP),
@@ -194,7 +203,7 @@ def sweep(
         at_once = min(workers, len(omegas))  # a local cluster of more workers than points: idle cores
         serial = serial or (at_once == 1 and scheduler is None)  # one at a time: in this process
         threads = max(1, cores // at_once) if not serial else None
-        case = _case(scenario, quick, out, settings, sets, threads)
+        case = _case(scenario, quick, out, settings, sets, threads, preset)
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # each point's run folder name and run (grid, steps, fit), checked before any compute
             check_run(case.scenario, case.mpm, w, case.run_dir(w))

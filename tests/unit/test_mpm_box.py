@@ -66,3 +66,30 @@ def test_cells_coarser_than_a_fifth_of_the_thinnest_lug_are_warned_of(capsys):
     assert "warning" not in capsys.readouterr().err
     case_settings(wheel, True, echo=False)  # a figure's check: silent
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_the_reference_route_resolves_each_body_on_a_bed_that_follows_it(name):
+    from intrusim.scenarios.mpm_locomotion import check_run, reference_settings, thinnest_feature
+
+    sc = get_scenario(name)
+    s = reference_settings(sc)
+    assert s.h == pytest.approx(thinnest_feature(sc) / 5)  # a fifth of the thinnest feature
+    assert s.fluidity is not None and s.fluidity.grain_diameter == pytest.approx(max(1e-3, 2.5 * s.h))
+    assert s.treadmill is not None and s.settle_tol == 0.01 and s.t_max >= 20.0
+    assert (
+        s.mu_s == base_settings(sc.body, False).mu_s
+        and s.youngs_modulus == base_settings(sc.body, False).youngs_modulus
+    )
+    for rpm in (10.0, 90.0):
+        check_run(sc, s, rpm)  # fits, treadmill clear of both walls, the cap long enough to settle
+
+
+def test_the_reference_preset_is_chosen_by_name_and_bad_names_are_refused(tmp_path):
+    wheel = get_scenario("wheel")
+    assert case_settings(wheel, False, preset="reference", echo=False).h == pytest.approx(0.0012)
+    assert case_settings(wheel, False, preset="quick", echo=False) == case_settings(wheel, True, echo=False)
+    with pytest.raises(InputError, match="--preset must be one of paper, quick, reference"):
+        case_settings(wheel, False, preset="fast")
+    with pytest.raises(InputError, match="--quick and --preset reference"):
+        case_settings(wheel, True, preset="reference")

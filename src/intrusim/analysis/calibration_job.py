@@ -41,6 +41,7 @@ class CalibrationJob:
     mpm: Optional[Path] = None
     mpm_omegas: Optional[str] = None
     quick: bool = False
+    preset: Optional[str] = None
     runs: Optional[Path] = None
     settings: Optional[Path] = None
     sets: list[str] = field(default_factory=list)
@@ -172,11 +173,15 @@ def make_references(job: CalibrationJob, scn: Any, csv: Path, say: Say, warn: Sa
         raise InputError(f"--mpm-omegas gives no angular velocity, got {omegas!r}")
     if job.fitted and len(w) < 2:
         raise InputError(f"--mpm-omegas: a fit needs at least 2 omegas, got {len(w)} ({omegas})")
-    settings = case_settings(scn, job.quick, job.settings, job.sets)  # refused before any run; warns of coarse cells
+    settings = case_settings(
+        scn, job.quick, job.settings, job.sets, preset=job.preset
+    )  # refused before any run; warns of coarse cells
     for omega in w:  # and a run that cannot be made (a box set by hand that cannot hold the body, too many steps)
         check_run(scn, settings, float(omega))
     runs = job.runs if job.runs is not None else job.out / "mpm-runs"
-    res = mpm_sweep_table(scn, w, job.quick, runs, settings_items(job.settings, job.sets), csv, workers=job.workers)
+    res = mpm_sweep_table(
+        scn, w, job.quick, runs, settings_items(job.settings, job.sets), csv, workers=job.workers, preset=job.preset
+    )
     failed = [r for r in res.records if not r.get("ok")]
     for r in failed:
         err = str(r.get("error") or "unknown error").strip()
@@ -301,9 +306,11 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
     if job.name is not None and (not job.name or Path(job.name).name != job.name):
         raise InputError(f"--name must be a plain file name stem, got {job.name!r}")
     if job.mpm is not None and (
-        job.mpm_omegas is not None or job.quick or job.runs is not None or job.settings or job.sets
+        job.mpm_omegas is not None or job.quick or job.preset or job.runs is not None or job.settings or job.sets
     ):
-        raise InputError("--mpm-omegas, --quick, --runs, --settings and --set make the MPM runs: not with --mpm")
+        raise InputError(
+            "--mpm-omegas, --quick, --preset, --runs, --settings and --set make the MPM runs: not with --mpm"
+        )
 
     def prepared(name: str, check: bool = False) -> Any:
         """A scenario with this job's choices: the RFT table, the push, and ``structural`` (on a

@@ -42,6 +42,7 @@ MPM_RUNNER_RPM_QUICK = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 300.0])
 # (key, value) settings applied over the quick or paper settings of every MPM case of a figure
 # (`intrusim reproduce --settings/--set`; :func:`applying_settings`)
 _SETTINGS: list[tuple[str, Any]] = []
+_PRESET: list[str | None] = [None]  # the base of the cases' settings (--preset; None: paper or quick)
 # MPM runs at once of the figures' sweeps (`intrusim reproduce --workers`; :func:`running_workers`);
 # None: one per core, up to the runs to make
 _WORKERS: list[int | None] = [None]
@@ -65,15 +66,18 @@ def check_figure_settings(figure: str, quick: bool, items: list[tuple[str, Any]]
 
 
 @contextmanager
-def applying_settings(items: list[tuple[str, Any]]) -> Iterator[None]:
+def applying_settings(items: list[tuple[str, Any]], preset: str | None = None) -> Iterator[None]:
     """Within this block the figures' MPM cases take ``items`` (key, value) over their base settings
-    (:func:`intrusim.scenarios.mpm_settings.apply_settings`)."""
-    saved = list(_SETTINGS)
+    (:func:`intrusim.scenarios.mpm_settings.apply_settings`), the base being ``preset``'s
+    (:func:`~intrusim.scenarios.mpm_locomotion.body_settings`; None: the paper's or the quick one)."""
+    saved, saved_preset = list(_SETTINGS), _PRESET[0]
     _SETTINGS[:] = items
+    _PRESET[0] = preset
     try:
         yield
     finally:
         _SETTINGS[:] = saved
+        _PRESET[0] = saved_preset
 
 
 @contextmanager
@@ -101,11 +105,13 @@ def run_count(workers: int | None, parallel: bool, missing: int) -> int:
 
 
 def runs_root(runs: Path | None, quick: bool) -> Path:
-    return Path(runs) if runs is not None else Path("runs") / ("mpm-quick" if quick else "mpm")
+    if runs is not None:
+        return Path(runs)
+    return Path("runs") / ("mpm-quick" if quick else "mpm-reference" if _PRESET[0] == "reference" else "mpm")
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    base = body_settings(scenario, quick, echo=False)  # the commands say it once, before the runs
+    base = body_settings(scenario, quick, echo=False, preset=_PRESET[0])  # the commands say it once, before the runs
     settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
 
@@ -207,13 +213,14 @@ def mpm_sweep_table(
     items: list[tuple[str, Any]],
     csv: Path,
     workers: int | None = None,
+    preset: str | None = None,
 ) -> SweepResult:
     """:func:`mpm_sweep` of ``scenario`` at ``rpm`` with the settings ``items`` over its quick or paper
-    ones, its table written to ``csv`` and the runs' settings beside it (``CSV.settings.json``, as
+    ones (or ``preset``'s), its table written to ``csv`` and the runs' settings beside it (``CSV.settings.json``, as
     ``intrusim mpm sweep`` writes them), for ``intrusim calibrate --mpm`` and the reference set.
     ``workers``: MPM runs at once (:func:`mpm_sweep`; 1: one after another in this process)."""
     rpm = np.asarray(rpm, float)
-    with applying_settings(items):
+    with applying_settings(items, preset):
         res = mpm_sweep(scenario, rpm, quick, True, runs, workers)
         case = mpm_case(scenario, quick, runs)
     csv.parent.mkdir(parents=True, exist_ok=True)

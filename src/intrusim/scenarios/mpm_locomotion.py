@@ -239,11 +239,58 @@ def base_settings(body: str, quick: bool, scale: float = 1.0) -> MPMSettings:
     return quick_settings(body, scale) if quick else paper_settings(body, scale)
 
 
-def body_settings(scenario: LocomotorScenario, quick: bool, echo: bool = True) -> MPMSettings:
+PRESETS = ("paper", "quick", "reference")  # the bases of a command's settings (--preset)
+POPPY_SEED_DIAMETER = 1.0e-3  # m, the grain size of Table S1's medium (FluidityConfig's default)
+REFERENCE_CAP = 20.0  # s, the longest a reference run goes on before it is reported unsettled
+
+
+def reference_settings(scenario: LocomotorScenario) -> MPMSettings:
+    """The reference route's settings for ``scenario`` (``--preset reference``): a law that converges
+    at the resolution this body needs, run until settled on a bed that follows the body.
+
+    * law: the nonlocal granular fluidity (:class:`~intrusim.mpm.config.FluidityConfig`, Henann &
+      Kamrin 2013), whose grain size gives shear bands a width of their own (the paper's law has
+      none: docs/convergence.md); grain diameter d = max(poppy seeds' 1 mm, 2.5 cells), the
+      smallest the cells resolve;
+    * cells: a fifth of the body's thinnest feature (:func:`thinnest_feature`; 1.2 mm for the
+      Table S1 wheel's 6 mm grousers);
+    * box: 6 radii plus the wall margin long, with a treadmill (the scene moves back a whole number
+      of cells whenever the body passes 3 radii, to 2.5 radii), so the bed never ends; a wheel's box
+      is the bed plus 4 radii high, a runner's keeps the paper's height (its flaps fling grains);
+    * run: until the settle test holds (``settle_tol`` 1 % over the last two revolutions), at most
+      :data:`REFERENCE_CAP` s;
+    * the rest as the paper's set-up (:func:`paper_settings`: the medium, E, the bed's depth, the
+      push, the transfer and the contact)."""
+    base = paper_settings(scenario.body, scenario.mpm_scale)
+    radius, _ = _extent(scenario)
+    h = thinnest_feature(scenario) / RESOLUTION_FRACTION
+    nx = math.ceil((6 * radius + base.wall_margin) / h - 1e-9)
+    lz = base.bed_depth + 4 * radius if scenario.body == "wheel" else base.domain[1]
+    nz = math.ceil(lz / h - 1e-9)
+    start = math.ceil(2.5 * radius / h - 1e-9) * h
+    trigger = start + max(h, math.floor(0.5 * radius / h) * h)
+    out = base.validated_copy(
+        domain=(nx * h, nz * h), cells=(nx, nz), start_x=start, treadmill=(trigger, start),
+        fluidity={"grain_diameter": max(POPPY_SEED_DIAMETER, 2.5 * h)}, settle_tol=0.01,
+        t_max=max(REFERENCE_CAP, base.t_max),
+    )  # fmt: skip
+    return fit_box(out, scenario, echo=False)
+
+
+def body_settings(
+    scenario: LocomotorScenario, quick: bool, echo: bool = True, preset: str | None = None
+) -> MPMSettings:
     """The base settings of ``scenario`` (:func:`base_settings` of its body at its ``mpm_scale``) with
     the box grown, where needed, to hold this body (:func:`fit_box`); a body that fits (every
-    shipped one) gets the base unchanged. ``echo``: say on stderr what was grown."""
-    return fit_box(base_settings(scenario.body, quick, scenario.mpm_scale), scenario, echo)
+    shipped one) gets the base unchanged. ``preset``: "paper" (the default), "quick" (as ``quick``)
+    or "reference" (:func:`reference_settings`). ``echo``: say on stderr what was grown."""
+    if preset is not None and preset not in PRESETS:
+        raise InputError(f"--preset must be one of {', '.join(PRESETS)}, got {preset!r}")
+    if preset == "reference":
+        if quick:
+            raise InputError("--quick and --preset reference: give one (--quick is --preset quick)")
+        return reference_settings(scenario)
+    return fit_box(base_settings(scenario.body, quick or preset == "quick", scenario.mpm_scale), scenario, echo)
 
 
 RESOLUTION_FRACTION = 5  # cells at most a fifth of the body's thinnest feature (docs/convergence.md)

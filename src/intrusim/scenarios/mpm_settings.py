@@ -198,7 +198,12 @@ def settings_items(settings_file: str | Path | None = None, sets: Iterable[str] 
 
 
 def case_settings(
-    scenario: Any, quick: bool, settings_file: str | Path | None = None, sets: Iterable[str] = (), echo: bool = True
+    scenario: Any,
+    quick: bool,
+    settings_file: str | Path | None = None,
+    sets: Iterable[str] = (),
+    echo: bool = True,
+    preset: str | None = None,
 ) -> Any:
     """The MPMSettings of a command: the quick or paper base of ``scenario``'s body (at its
     ``mpm_scale``, the box grown to hold the body: :func:`~intrusim.scenarios.mpm_locomotion.body_settings`),
@@ -208,8 +213,8 @@ def case_settings(
 
     from intrusim.scenarios.mpm_locomotion import body_settings, resolution_warning
 
-    s = apply_settings(body_settings(scenario, quick, echo), settings_items(settings_file, sets))
-    note = resolution_warning(scenario, s.h, quick) if echo else None
+    s = apply_settings(body_settings(scenario, quick, echo, preset), settings_items(settings_file, sets))
+    note = resolution_warning(scenario, s.h, quick or preset == "quick") if echo else None
     if note:
         print(f"warning: {note}", file=sys.stderr)
     return s
