@@ -203,10 +203,11 @@ def _reference_warnings(job: CalibrationJob, scn: Any, ref: Any, csv: Path, made
 
     loose = [r for r in ref.records if "settled" in r and not bool(r["settled"])]
     if loose and not job.settled_only:
-        ws = ", ".join(f"{r['omega_rpm']:g}" for r in loose)
+        ws = ", ".join(f"{r['omega_rpm']:g} RPM" + (f" {r['outcome']}" if r.get("outcome") else "") for r in loose)
         warn(
-            f"{len(loose)} of {len(ref.records)} MPM runs did not settle ({ws} RPM: v drifts over their window); their "
-            "averages are not steady states: --settled-only fits only the settled runs, or lengthen them (--set t_max=...)"
+            f"{len(loose)} of {len(ref.records)} MPM runs did not settle ({ws}); their averages are not steady "
+            "states: --settled-only fits only the settled runs, or lengthen them (--set t_max=...; --set settle_tol=0.01 "
+            "stops each once settled)"
         )
     if not made:
         record = read_record(csv) or {}
