@@ -9,6 +9,18 @@ from intrusim.cli import app
 runner = CliRunner()
 
 
+# a user's 12-grouser wheel (radius 0.115 m: taller than the quick box holds), as a body TOML
+MY_WHEEL = """body = "wheel"
+hub_diameter = 0.2
+lug_height = 0.015
+lug_width = 0.008
+lug_count = 12
+width = 0.12
+mass_x = 12.0
+mass_z = 5.0
+"""
+
+
 def run(*args):
     """``intrusim ARGS`` in this process (typer's runner), every argument as a string."""
     return runner.invoke(app, [str(a) for a in args])
@@ -39,4 +51,33 @@ t_end = {t_end}
 [output]
 record_every = 0.005
 checkpoint_every = 0.01
+"""
+
+
+def block_config(t_end: float = 0.02, z: float = 0.06, omega: float = -1.0) -> str:
+    """An MPM run file of a 20 x 10 cell box half full of grains with a coupled 4 x 2 cm block, its
+    centre at height ``z`` (0.06 m: resting on the bed), spinning at ``omega``, ``t_end`` seconds long."""
+    return f"""
+[domain]
+size = [0.2, 0.1]
+cells = [20, 10]
+[bed]
+rectangles = [{{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }}]
+[time]
+t_end = {t_end}
+[output]
+record_every = 0.0025
+checkpoint_every = 0.005
+[backend]
+cpu_threads = 1
+[[intruders]]
+vertices = [[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]
+width = 0.1
+x = 0.1
+z = {z}
+[intruders.motion]
+kind = "coupled"
+omega = {omega}
+mass_x = 1.0
+mass_z = 1.0
 """

@@ -11,6 +11,7 @@ import warnings
 
 import numpy as np
 import pytest
+from cli_helpers import block_config
 from cli_helpers import refused as _refused
 from cli_helpers import run as _run
 from typer.testing import CliRunner
@@ -32,30 +33,7 @@ checkpoint_every = 0.01
 cpu_threads = 1
 """
 
-BODY = """
-[domain]
-size = [0.2, 0.1]
-cells = [20, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }]
-[time]
-t_end = 0.01
-[output]
-record_every = 0.0025
-checkpoint_every = 0.005
-[backend]
-cpu_threads = 1
-[[intruders]]
-vertices = [[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]
-width = 0.1
-x = 0.1
-z = 0.065
-[intruders.motion]
-kind = "coupled"
-omega = -1.0
-mass_x = 1.0
-mass_z = 1.0
-"""
+BODY = block_config(t_end=0.01, z=0.065)  # a coupled block just above the bed
 
 
 def _toml(tmp_path, text, name="c.toml"):

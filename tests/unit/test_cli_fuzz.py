@@ -10,6 +10,7 @@ import tomllib
 from datetime import timedelta
 from pathlib import Path
 
+from cli_helpers import block_config
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
@@ -18,32 +19,9 @@ from intrusim.cli import app
 
 runner = CliRunner()
 
-BASE = tomllib.loads("""
-gravity = [0.0, -9.8]
-[domain]
-size = [0.2, 0.1]
-cells = [20, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }]
-[time]
-t_end = 0.01
-max_steps = 2000
-[output]
-record_every = 0.0025
-checkpoint_every = 0.005
-[backend]
-cpu_threads = 1
-[[intruders]]
-vertices = [[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]
-width = 0.1
-x = 0.1
-z = 0.065
-[intruders.motion]
-kind = "coupled"
-omega = -1.0
-mass_x = 1.0
-mass_z = 1.0
-""")
+BASE = tomllib.loads(
+    "gravity = [0.0, -9.8]\n" + block_config(t_end=0.01, z=0.065).replace("[time]\n", "[time]\nmax_steps = 2000\n", 1)
+)
 
 FIELDS = [
     "domain.size.0",

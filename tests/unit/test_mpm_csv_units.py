@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import block_config
 from test_sweep_mpm import documented_unitless
 
 from intrusim.errors import InputError
@@ -114,32 +115,6 @@ def test_a_committed_old_run_folder_summarises_the_same_from_its_rewritten_heade
         np.testing.assert_array_equal(a.series[k], b.series[k], err_msg=k)
 
 
-TINY_BODY = """
-[domain]
-size = [0.2, 0.1]
-cells = [20, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }]
-[time]
-t_end = 0.02
-[output]
-record_every = 0.0025
-checkpoint_every = 0.005
-[backend]
-cpu_threads = 1
-[[intruders]]
-vertices = [[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]
-width = 0.1
-x = 0.1
-z = 0.06
-[intruders.motion]
-kind = "coupled"
-omega = -1.0
-mass_x = 1.0
-mass_z = 1.0
-"""  # a coupled block resting on the bed (tests/unit/test_cli_errors.py's BODY)
-
-
 def test_a_tiny_run_names_every_unit_and_resuming_an_old_header_folder_rewrites_it_whole(tmp_path):
     """A real MPM run with a body: every column of its timeseries.csv has a unit or is documented
     unitless. Its folder made old (the header without units, as a run of an earlier version left it)
@@ -151,7 +126,7 @@ def test_a_tiny_run_names_every_unit_and_resuming_an_old_header_folder_rewrites_
     from intrusim.mpm.solver import Solver
 
     def config(name: str, t_end: float) -> MPMConfig:
-        cfg = MPMConfig.model_validate(tomllib.loads(TINY_BODY))
+        cfg = MPMConfig.model_validate(tomllib.loads(block_config()))
         cfg.output.directory, cfg.time.t_end = str(tmp_path / name), t_end
         return cfg
 

@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import MY_WHEEL
 
 from intrusim._checks import InputError
 from intrusim.params import table_s1
@@ -81,17 +82,6 @@ def test_a_body_file_must_say_its_body(tmp_path):
     p.write_text("mass_z = 3.0\n")
     with pytest.raises(InputError, match="body is required"):
         load_scenario(p)
-
-
-MY_WHEEL = """body = "wheel"
-hub_diameter = 0.2
-lug_height = 0.015
-lug_width = 0.008
-lug_count = 12
-width = 0.12
-mass_x = 12.0
-mass_z = 5.0
-"""
 
 
 def test_a_body_file_is_named_after_itself_and_derives_its_length_scale(tmp_path):

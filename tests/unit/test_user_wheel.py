@@ -9,17 +9,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from cli_helpers import run
+from cli_helpers import MY_WHEEL, run
 
-MY_WHEEL = """body = "wheel"
-hub_diameter = 0.2
-lug_height = 0.015
-lug_width = 0.008
-lug_count = 12
-width = 0.12
-mass_x = 12.0
-mass_z = 5.0
-"""
 ARGS = ["calibrate", "my_wheel.toml", "--quick", "--params", "xi", "--starts", "1"]
 
 
