@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import os
+import tempfile
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -54,3 +57,23 @@ def finite_array(name: str, value: Any, shape_tail: tuple[int, ...] = ()) -> np.
     if not np.all(np.isfinite(a)):
         raise InputError(f"{name} contains non-finite values")
     return a
+
+
+def check_writable(folder: str | Path, flag: str = "--out") -> None:
+    """Refuse (InputError) an output folder that cannot be made or written, before any compute;
+    nothing is left behind (a file is made and removed in the folder, or in its nearest existing
+    parent when the folder is still to be made)."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{flag} {folder} is a file, not a folder")
+    place = folder
+    while not place.exists() and place != place.parent:
+        place = place.parent
+    if not place.is_dir():
+        raise InputError(f"{flag} {folder} cannot be made: {place} is a file")
+    try:
+        fd, probe = tempfile.mkstemp(dir=place, prefix=".intrusim-write-test-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as err:
+        raise InputError(f"{flag} {folder} is not writable ({place}: {err.strerror or err})") from None

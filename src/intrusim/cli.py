@@ -8,7 +8,7 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
-from intrusim._checks import InputError, finite
+from intrusim._checks import InputError, check_writable, finite
 from intrusim._version import __version__
 from intrusim.errors import guarded_group
 from intrusim.forces import make_force_model
@@ -181,11 +181,15 @@ def sweep(
 
     from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.scenarios import load_scenario
+    from intrusim.scenarios.locomotor import write_body
 
     try:
         if workers is not None and workers > (os.cpu_count() or 1):
             raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
-        kind, scn = with_model(model, load_scenario(scenario), rft_coefficients)
+        if csv is not None:
+            check_writable(csv.parent, "--csv")  # before the compute, not after it
+        body = load_scenario(scenario)
+        kind, scn = with_model(model, body, rft_coefficients)
         res = sweep_omega(
             scn, kind, omega_list(omega_rpm), lam=lam, parallel=parallel and workers != 1,
             scheduler_address=scheduler_address, n_workers=workers,
@@ -195,7 +199,7 @@ def sweep(
     typer.echo(f"{scn.name}, {_model_name(model, kind)}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
     typer.echo(res.table())
     if csv is not None:
-        res.to_csv(csv)
+        typer.echo(f"wrote {res.to_csv(csv)} and {write_body(csv.with_suffix('.body.json'), body)}")
     if res.errors:
         raise typer.Exit(1)
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from intrusim._checks import InputError
+from intrusim._checks import InputError, check_writable
 from intrusim.errors import guarded_group, validation_message
 
 if TYPE_CHECKING:
@@ -94,6 +94,8 @@ def steady(
     try:
         case = _case(scenario, quick, out, settings, sets, threads, preset)
         _finite("omega_rpm", omega_rpm)
+        if out is not None:
+            check_writable(out)
         typer.echo(f"{case.name}: omega = {omega_rpm:g} RPM, grid {case.mpm.cells}, t_max {case.mpm.t_max} s")
         last = [-1.0]
 
@@ -185,6 +187,7 @@ def sweep(
 
     from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.mpm.io import safe_child
+    from intrusim.scenarios.locomotor import write_body
     from intrusim.scenarios.mpm_locomotion import check_run
     from intrusim.scenarios.mpm_settings import write_record
 
@@ -207,6 +210,7 @@ def sweep(
         csv_path = safe_child(out, f"{case.scenario.name}_mpm_sweep.csv")
         for w in omegas:  # each point's run folder name and run (grid, steps, fit), checked before any compute
             check_run(case.scenario, case.mpm, w, case.run_dir(w))
+        check_writable(out)
         out.mkdir(parents=True, exist_ok=True)
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
@@ -214,8 +218,9 @@ def sweep(
     res = sweep_omega(case, "mpm", omegas, parallel=not serial, scheduler_address=scheduler, n_workers=at_once)
     path = res.to_csv(csv_path)
     write_record(csv_path, case.scenario.name, {w: case.mpm for w in omegas})
+    body = write_body(csv_path.with_suffix(".body.json"), case.scenario)
     typer.echo(res.table())
-    typer.echo(f"wrote {path}")
+    typer.echo(f"wrote {path} and {body}")
     if res.errors:
         typer.echo(f"error: {len(res.errors)} of {len(res.records)} points failed (see the table)", err=True)
         raise typer.Exit(1)

@@ -118,3 +118,24 @@ def test_the_fit_says_its_verdict_a_bound_and_a_parameter_the_data_do_not_fix():
     assert any("psi = 4.99 is not identified by the data" in w and "psi = 3-4.9" in w for w in warned)
     assert not any(w.startswith("xi") for w in warned)  # xi is identified
     assert any("xi = 0.5 +- " in s and "psi = 4.99 (not identified)" in s for s in said)
+
+
+def test_sweep_writes_its_csv_and_the_effective_body_into_a_new_folder(scratch):
+    r = run("sweep", "--scenario", "my_wheel.toml", "--omega-rpm", "30,60", "--workers", "1", "--csv", "out/s.csv")
+    assert r.exit_code == 0, r.output
+    body = json.loads((scratch / "out" / "s.body.json").read_text())
+    assert body["name"] == "my_wheel" and body["lug_count"] == 12 and "hub_diameter" not in body["defaulted"]
+    header = (scratch / "out" / "s.csv").read_text().splitlines()[0].split(",")
+    assert header[:5] == ["omega_rpm", "omega_rad_s", "ok", "velocity_m_s", "sinkage_m"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["sweep", "--scenario", "my_wheel.toml", "--omega-rpm", "30", "--csv", "/proc/intrusim/s.csv"],
+     ["mpm", "sweep", "--scenario", "my_wheel.toml", "--quick", "--omega-rpm", "30", "--out", "/proc/intrusim"],
+     ["mpm", "steady", "--scenario", "my_wheel.toml", "--quick", "--omega-rpm", "30", "--out", "/proc/intrusim"]],
+)  # fmt: skip
+def test_every_command_refuses_an_unwritable_output_before_compute(scratch, args):
+    r = run(*args)
+    assert r.exit_code == 2 and "is not writable" in r.output and "v m/s" not in r.output
+    assert sorted(p.name for p in scratch.iterdir()) == ["my_wheel.toml"]

@@ -19,7 +19,6 @@ their table, the fit's PNG / CSV / JSON, the model file and the effective body (
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from dataclasses import dataclass, field
@@ -28,7 +27,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from intrusim._checks import InputError
+from intrusim._checks import InputError, check_writable
 
 Say = Callable[[str], None]
 
@@ -68,28 +67,6 @@ class CalibrationJob:
     def fitted(self) -> list[str]:
         p = self.params.strip()
         return [] if p == "none" else [x.strip() for x in p.split(",") if x.strip()]
-
-
-def check_writable(folder: Path) -> None:
-    """Refuse (InputError) an output folder that cannot be made or written, before any compute;
-    nothing is left behind (a file is made and removed in the folder, or in its nearest existing
-    parent when the folder is still to be made)."""
-    import tempfile
-
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"--out {folder} is a file, not a folder")
-    place = folder
-    while not place.exists() and place != place.parent:
-        place = place.parent
-    if not place.is_dir():
-        raise InputError(f"--out {folder} cannot be made: {place} is a file")
-    try:
-        fd, probe = tempfile.mkstemp(dir=place, prefix=".intrusim-write-test-")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as err:
-        raise InputError(f"--out {folder} is not writable ({place}: {err.strerror or err})") from None
 
 
 def fixed_values(items: list[str], fitted: list[str]) -> dict[str, float]:
@@ -287,9 +264,8 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
     from intrusim.analysis.calibration import leave_one_out as cross_validate
     from intrusim.analysis.model_file import with_rft_table
     from intrusim.figures.calibration import Check, psi_from_surface_drop, write_calibration
-    from intrusim.mpm.io import atomic_write_bytes
     from intrusim.scenarios import load_scenario
-    from intrusim.scenarios.locomotor import effective_body
+    from intrusim.scenarios.locomotor import write_body
 
     warn = warn or (lambda text: say(f"warning: {text}"))
     if job.workers > (os.cpu_count() or 1):
@@ -384,9 +360,9 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
         meta["leave_one_out"] = loo.summary()
     paths, check_cmps = write_calibration(out, stem, res, start, ref, checks, job.model, meta)
     paths.append(_write_model_file(out / f"{stem}.model.json", res, job.model, job.mpm_push, Path(mpm)))
-    body_path = out / f"{stem}.body.json"  # the body as run, beside the results
-    atomic_write_bytes(body_path, json.dumps(effective_body(load_scenario(job.scenario)), indent=1).encode())
-    paths.append(body_path)
+    paths.append(
+        write_body(out / f"{stem}.body.json", load_scenario(job.scenario))
+    )  # the body as run, beside the results
     for label, c in check_cmps.items():
         rows = ", ".join(
             f"{w:g} RPM v {pct(dv)} s {pct(ds)}"

@@ -238,6 +238,7 @@ class SweepResult:
         w.writeheader()
         for r in rows:
             w.writerow({k: r.get(k, "") for k in names})
+        p.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_bytes(p, buf.getvalue().encode())  # a killed sweep leaves the old CSV or the new one
         return p
 

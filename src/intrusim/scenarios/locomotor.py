@@ -327,6 +327,18 @@ def effective_body(scenario: LocomotorScenario) -> dict[str, Any]:
     return out
 
 
+def write_body(path: str | Path, scenario: LocomotorScenario) -> Path:
+    """Write :func:`effective_body` of ``scenario`` as JSON to ``path`` (whole or not at all), beside
+    the results it made."""
+    import json
+
+    from intrusim.mpm.io import atomic_write_bytes
+
+    p = Path(path)
+    atomic_write_bytes(p, json.dumps(effective_body(scenario), indent=1).encode())
+    return p
+
+
 def describe_body(scenario: LocomotorScenario, source: str | None = None) -> str:
     """One paragraph: the effective body, every value with its unit, those not given by the body's
     file marked as taken from the shipped body."""
