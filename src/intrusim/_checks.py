@@ -77,3 +77,14 @@ def check_writable(folder: str | Path, flag: str = "--out") -> None:
         os.unlink(probe)
     except OSError as err:
         raise InputError(f"{flag} {folder} is not writable ({place}: {err.strerror or err})") from None
+
+
+def check_workers(workers: int | None, flag: str = "--workers") -> None:
+    """Refuse (InputError) a count of processes below 1 or above this machine's cores (None: not given)."""
+    if workers is None:
+        return
+    cores = os.cpu_count() or 1
+    if workers < 1:
+        raise InputError(f"{flag} must be >= 1, got {workers}")
+    if workers > cores:
+        raise InputError(f"{flag} {workers} is more than this machine's {cores} cores")

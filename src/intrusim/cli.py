@@ -8,7 +8,7 @@ from typing import Any, Optional
 import numpy as np
 import typer
 
-from intrusim._checks import InputError, check_writable, finite
+from intrusim._checks import InputError, check_workers, check_writable, finite
 from intrusim._version import __version__
 from intrusim.errors import guarded_group
 from intrusim.forces import make_force_model
@@ -177,15 +177,13 @@ def sweep(
     ),
 ) -> None:
     """Steady states over a range of omega (failed points are reported, the rest kept)."""
-    import os
 
     from intrusim.analysis.sweep import omega_list, sweep_omega
     from intrusim.scenarios import load_scenario
     from intrusim.scenarios.locomotor import write_body
 
     try:
-        if workers is not None and workers > (os.cpu_count() or 1):
-            raise InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores")
+        check_workers(workers)
         if csv is not None:
             check_writable(csv.parent, "--csv")  # before the compute, not after it
         body = load_scenario(scenario)
@@ -199,7 +197,7 @@ def sweep(
     typer.echo(f"{scn.name}, {_model_name(model, kind)}, lambda = {lam if lam is not None else scn.force_model.lam:g}")
     typer.echo(res.table())
     if csv is not None:
-        typer.echo(f"wrote {res.to_csv(csv)} and {write_body(csv.with_suffix('.body.json'), body)}")
+        typer.echo(f"wrote {res.to_csv(csv)} and {write_body(csv.with_suffix('.body.json'), body, scn.external_fx)}")
     if res.errors:
         raise typer.Exit(1)
 
@@ -240,7 +238,6 @@ def reproduce(
     run folder or sweep CSV under --runs recorded with other settings is refused. Each MPM run
     prints its progress (simulated time reached, ETA) every few seconds.
     """
-    import os
 
     from intrusim.figures import FIGURES
     from intrusim.figures.mpm import applying_settings, check_figure_settings, running_workers
@@ -252,8 +249,11 @@ def reproduce(
         _fail(InputError(f"unknown figure {figure!r}; choose one of {sorted(FIGURES)}"))
     if name is not None and (not name or Path(name).name != name):
         _fail(InputError(f"--name must be a plain file name stem, got {name!r}"))
-    if workers is not None and workers > (os.cpu_count() or 1):
-        _fail(InputError(f"--workers {workers} is more than this machine's {os.cpu_count() or 1} cores"))
+    try:
+        check_workers(workers)
+        check_writable(out)
+    except InputError as err:
+        _fail(err)
     if workers is not None and workers > 1 and not parallel:
         _fail(InputError(f"--workers {workers} runs MPM runs at once: not with --no-parallel (or give --workers 1)"))
     if items:  # and a bad value, over the base settings of the figure's MPM cases
@@ -363,7 +363,7 @@ def calibrate(
     settled_only: bool = typer.Option(
         False,
         "--settled-only",
-        help="Fit only the MPM runs that settled (velocity drift < 5 %; the CSV's settled column).",
+        help="Fit only the MPM runs that settled (the settle test: v and sinkage each within 1 % over their last two revolutions; the CSV's settled column; older CSVs: the window's halves within 5 %).",
     ),
     starts: int = typer.Option(
         8, help="Local least-squares fits from the scenario's values and points filling the bounds; the best is kept."

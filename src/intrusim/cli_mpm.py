@@ -105,10 +105,11 @@ def steady(
                 typer.echo(f"  t = {d['t']:.2f} s  x = {d['x']:.3f} m  vx = {d['vx']:.3f} m/s  wall {d['wall']:.0f} s")
 
         from intrusim.mpm.io import run_lock, safe_child
-        from intrusim.scenarios.mpm_locomotion import run_mpm_steady, write_result
+        from intrusim.scenarios.mpm_locomotion import refuse_other_settings, run_mpm_steady, write_result
 
         run_dir = None if out is None else safe_child(out, f"{case.scenario.name}_{omega_rpm:g}rpm")
         with run_lock(run_dir):  # one writer per run folder
+            refuse_other_settings(run_dir, case.mpm)
             if run_dir is not None:  # a result.json is true of the run that wrote it: gone until this one ends
                 from intrusim.mpm.io import refuse_other_run
                 from intrusim.scenarios.mpm_locomotion import mpm_config
@@ -251,6 +252,7 @@ def references(
 
     try:
         parts = selected(None if only is None else [s.strip() for s in only.split(",") if s.strip()])
+        check_writable(out)
     except InputError as err:
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(2) from None

@@ -93,3 +93,16 @@ def test_the_reference_preset_is_chosen_by_name_and_bad_names_are_refused(tmp_pa
         case_settings(wheel, False, preset="fast")
     with pytest.raises(InputError, match="--quick and --preset reference"):
         case_settings(wheel, True, preset="reference")
+    with pytest.raises(InputError, match="--quick and --preset paper"):  # not silently quick
+        case_settings(wheel, True, preset="paper")
+
+
+def test_the_box_is_fitted_after_the_users_settings_in_the_dimensions_they_left_free(tmp_path):
+    wheel = get_scenario("wheel")
+    deep = case_settings(wheel, False, sets=["bed_depth=0.85"], echo=False)  # the paper's 1 m box is too low now
+    assert deep.domain[1] > 1.0 and deep.h == pytest.approx(0.005)
+    mpm_config(wheel, deep, 30.0)
+    hand = case_settings(wheel, False, sets=["bed_depth=0.85", "domain=[1.0, 1.0]", "cell_size=0.005"], echo=False)
+    assert hand.domain == (1.0, 1.0)  # set by hand: kept, and refused at the run, naming the height
+    with pytest.raises(InputError, match=r"height 1 m must be at least bed_depth \+ the body \+ a cell \(1\.07 m"):
+        mpm_config(wheel, hand, 30.0)

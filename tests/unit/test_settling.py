@@ -47,11 +47,20 @@ def test_a_body_still_changing_speed_says_which_way_and_how_fast():
 
 def test_a_buried_body_is_entrapped_whatever_else_it_does():
     t = _t()
-    j = settling(t, np.full_like(t, 0.01), np.full_like(t, 0.25), OMEGA, 1.0, height=0.212)
+    j = settling(t, np.full_like(t, 0.01), np.full_like(t, 0.25), OMEGA, 1.0, radius=0.106)
     assert j.outcome == "buried" and "38 mm under the surface" in j.text and not j.settled
-    assert (
-        settling(t, np.full_like(t, 0.01), np.full_like(t, 0.25), OMEGA, 1.0).outcome == "settled"
-    )  # height not given
+    assert settling(t, np.full_like(t, 0.01), np.full_like(t, 0.25), OMEGA, 1.0).outcome == "settled"  # no radius
+
+
+def test_a_body_riding_at_the_surface_is_judged_on_its_own_size_not_on_a_near_zero_mean():
+    t = _t()
+    s = 2e-4 + 5e-5 * np.sin(2 * math.pi * 0.3 * t)  # 0.2 +- 0.05 mm: bobbing at the surface
+    v = np.full_like(t, 0.3)
+    assert settling(t, v, s, OMEGA, 1.0).outcome in ("rising", "sinking")  # relative to 0.2 mm: never settles
+    assert settling(t, v, s, OMEGA, 1.0, radius=0.1).settled  # relative to r / 10 = 10 mm: 0.5 % at most
+    stopped = 0.002 + 0.0005 * np.sin(2 * math.pi * 0.3 * t)  # a body nearly at rest, v 2 +- 0.5 mm/s
+    assert not settling(t, stopped, np.full_like(t, 0.05), OMEGA, 1.0).settled
+    assert settling(t, stopped, np.full_like(t, 0.05), OMEGA, 1.0, radius=0.1).settled  # scale r |omega| / 10
 
 
 def test_a_run_shorter_than_two_revolutions_after_its_transient_is_not_judged():

@@ -33,9 +33,14 @@ def test_a_users_wheel_calibrates_end_to_end_with_everything_under_out(scratch):
     rows = list(csv.DictReader(open(scratch / "cal" / "calibration_my_wheel_mpm.csv")))
     assert [float(r["omega_rpm"]) for r in rows] == [30.0, 60.0]
     loose = [r for r in rows if r["settled"] in ("False", "0", "0.0")]
-    assert ("did not settle" in out) == bool(loose)  # unsettled runs in the fit are said
+    short = [r for r in loose if r["outcome"] == "too short"]  # 1.2 s: not two revolutions at 30 RPM
+    assert ("were too short to judge" in out) == bool(short)  # unsettled runs in the fit are said, by outcome
+    assert ("did not settle" in out) == bool(len(loose) > len(short))
     body = json.loads((scratch / "cal" / "calibration_my_wheel.body.json").read_text())
     assert body["name"] == "my_wheel" and body["length_scale"] == pytest.approx(0.23) and body["radius"] == 0.115
+    assert body["external_fx"] == 0.0 and body["external_fx_as_run"] == pytest.approx(
+        4.0 * 12.0 / 23.0
+    )  # the push, said
     assert sorted(p.name for p in (scratch / "cal" / "mpm-runs").iterdir()) == ["my_wheel_30rpm", "my_wheel_60rpm"]
     assert not list(scratch.rglob(".lock")) and not (scratch / "runs").exists() and not (scratch / "figures").exists()
 
@@ -102,6 +107,18 @@ def test_std_errors_are_the_gauss_newton_ones_and_a_flat_direction_is_unidentifi
         {"xi": 0.5, "psi": 1.0}, {"xi": (0.05, 3.0), "psi": (0.0, 5.0)}, [[1.0, 2.0], [2.0, 4.0], [0.5, 1.0]]
     )
     assert flat.std_errors() == {"xi": math.inf, "psi": math.inf}  # only xi + 2 psi is seen by the data
+    exact = _result({"xi": 0.5, "psi": 1.0}, {"xi": (0.05, 3.0), "psi": (0.0, 5.0)}, [[1.0, 0.0], [0.0, 2.0]], cost=0.0)
+    assert exact.std_errors() == {"xi": math.inf, "psi": math.inf}  # 2 residuals, 2 parameters: no error to tell
+
+
+def test_a_parameter_fitted_near_zero_is_judged_against_its_range():
+    from intrusim.analysis.calibration_job import _fit_warnings
+
+    res = _result({"psi_offset": 1e-3}, {"psi_offset": (-1.0, 1.0)}, [[10.0], [20.0], [5.0]], cost=1e-4)
+    said, warned = [], []
+    _fit_warnings(res, said.append, warned.append)
+    assert not any("not identified" in w for w in warned)  # s.e. 4e-4 against a range of 2
+    assert any("psi_offset = 0.001 +- " in s for s in said)
 
 
 def test_the_fit_says_its_verdict_a_bound_and_a_parameter_the_data_do_not_fix():

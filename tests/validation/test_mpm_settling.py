@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from cli_helpers import refused, run
 
+from intrusim._checks import InputError
 from intrusim.analysis.settling import settling
 from intrusim.scenarios import get_scenario
-from intrusim.scenarios.mpm_locomotion import quick_settings, run_mpm_steady, summarise_run
+from intrusim.scenarios.mpm_locomotion import quick_settings, refuse_other_settings, run_mpm_steady, summarise_run
 
 
 def test_a_run_stops_once_settled_and_answers_with_its_last_revolution(tmp_path):
@@ -27,6 +28,11 @@ def test_a_run_stops_once_settled_and_answers_with_its_last_revolution(tmp_path)
     # the same verdict read back from the folder
     again = summarise_run(tmp_path / "run")
     assert again.outcome == "settled" and again.velocity == pytest.approx(st.velocity, rel=1e-9)
+    # the folder answers its own stop test: a run without it (to t_max) on this folder is refused, a longer cap is not
+    refuse_other_settings(tmp_path / "run", s)
+    refuse_other_settings(tmp_path / "run", s.validated_copy(t_max=4.0, cpu_threads=2))
+    with pytest.raises(InputError, match="holds a run of another configuration .differs in settle_tol"):
+        refuse_other_settings(tmp_path / "run", s.validated_copy(settle_tol=None))
 
 
 def test_a_wheel_that_digs_itself_in_is_reported_buried_not_averaged_as_steady(tmp_path, monkeypatch):

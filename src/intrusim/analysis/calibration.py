@@ -127,8 +127,9 @@ def load_reference(path: Any, scenario: str = "", settled_only: bool = False) ->
     in the name, ``velocity_m_s``, or as older files have them, ``velocity``): the finished (ok) rows,
     sorted by omega.
 
-    settled_only: keep only the rows whose ``settled`` column is true (velocity drift between the
-    window's halves under 5 %): a run still digging in has no steady state to fit.
+    settled_only: keep only the rows whose ``settled`` column is true (the settle test of
+    :mod:`intrusim.analysis.settling`; in CSVs written before it, the window's halves within 5 %):
+    a run still digging in has no steady state to fit.
     """
     res = SweepResult.from_csv(path)
     rows = sorted((r for r in res.records if r["ok"]), key=lambda r: r["omega_rpm"])
@@ -332,16 +333,18 @@ class CalibrationResult:
 
     def std_errors(self) -> dict[str, float]:
         """Standard error of each fitted parameter from the Jacobian at the fit (the Gauss-Newton
-        covariance s^2 (J^T J)^-1, s^2 the residuals' variance: 2 cost / (residuals - parameters),
-        at least one); inf for a parameter the data do not identify (J^T J singular: a flat
-        direction of the cost)."""
+        covariance s^2 (J^T J)^-1, s^2 the residuals' variance: 2 cost / (residuals - parameters));
+        inf for a parameter the data do not identify (J^T J singular: a flat direction of the cost),
+        and for every one when there are no more residuals than parameters."""
         if self.jacobian is None or not self.params:
             return {}
         jac = np.asarray(self.jacobian, float)
         if not np.all(np.isfinite(jac)):
             return dict.fromkeys(self.params, math.nan)
         m, n = jac.shape
-        s2 = 2.0 * self.cost / max(m - n, 1)
+        if m <= n:  # no degree of freedom left for the residuals' variance: nothing can be said
+            return dict.fromkeys(self.params, math.inf)
+        s2 = 2.0 * self.cost / (m - n)
         out = dict.fromkeys(self.params, math.inf)  # a parameter the residuals do not move: unidentified
         seen = np.flatnonzero(np.linalg.norm(jac, axis=0) > 0.0)
         if len(seen) == 0:

@@ -20,14 +20,13 @@ their table, the fit's PNG / CSV / JSON, the model file and the effective body (
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Optional
 
 import numpy as np
 
-from intrusim._checks import InputError, check_writable
+from intrusim._checks import InputError, check_workers, check_writable
 
 Say = Callable[[str], None]
 
@@ -151,7 +150,7 @@ def make_references(job: CalibrationJob, scn: Any, csv: Path, say: Say, warn: Sa
     if job.fitted and len(w) < 2:
         raise InputError(f"--mpm-omegas: a fit needs at least 2 omegas, got {len(w)} ({omegas})")
     settings = case_settings(
-        scn, job.quick, job.settings, job.sets, preset=job.preset
+        scn, job.quick, job.settings, job.sets, echo=warn, preset=job.preset
     )  # refused before any run; warns of coarse cells
     for omega in w:  # and a run that cannot be made (a box set by hand that cannot hold the body, too many steps)
         check_run(scn, settings, float(omega))
@@ -179,10 +178,20 @@ def _reference_warnings(job: CalibrationJob, scn: Any, ref: Any, csv: Path, made
     from intrusim.scenarios.mpm_settings import read_record
 
     loose = [r for r in ref.records if "settled" in r and not bool(r["settled"])]
-    if loose and not job.settled_only:
-        ws = ", ".join(f"{r['omega_rpm']:g} RPM" + (f" {r['outcome']}" if r.get("outcome") else "") for r in loose)
+    short = [r for r in loose if r.get("outcome") == "too short"]
+    moving = [r for r in loose if r.get("outcome") != "too short"]
+    if short:
+        ws = ", ".join(f"{r['omega_rpm']:g}" for r in short)
         warn(
-            f"{len(loose)} of {len(ref.records)} MPM runs did not settle ({ws}); their averages are not steady "
+            f"{len(short)} of {len(ref.records)} MPM runs were too short to judge ({ws} RPM: the settle test needs two "
+            "revolutions after the transient): their averages may not be steady states; lengthen them (--set t_max=...; "
+            "with a treadmill and --set settle_tol=0.01 each stops once settled)"
+            + ("" if job.settled_only else "; --settled-only would leave them out")
+        )
+    if moving and not job.settled_only:
+        ws = ", ".join(f"{r['omega_rpm']:g} RPM" + (f" {r['outcome']}" if r.get("outcome") else "") for r in moving)
+        warn(
+            f"{len(moving)} of {len(ref.records)} MPM runs did not settle ({ws}); their averages are not steady "
             "states: --settled-only fits only the settled runs, or lengthen them (--set t_max=...; --set settle_tol=0.01 "
             "stops each once settled)"
         )
@@ -219,15 +228,12 @@ def _fit_warnings(res: Any, say: Say, warn: Say) -> None:
             warn(
                 f"{p} = {v:.4g} is at a bound of its range [{lo:g}, {hi:g}]: the data push it further; not a measured value"
             )
-        identified = math.isfinite(se) and se <= 0.5 * max(abs(v), 1e-12)
+        scale = max(abs(v), 0.1 * (hi - lo))  # a value near 0 is judged against its range
+        identified = math.isfinite(se) and se <= 0.5 * scale
         if not identified:
             spread = _flat_range(res, p)
             extra = f"; other starts reach within 5 % of the best cost at {p} = {spread}" if spread else ""
-            how = (
-                "the cost is flat along it"
-                if not math.isfinite(se) or se > 1e3 * max(abs(v), 1e-12)
-                else f"standard error {se:.2g}"
-            )
+            how = "the cost is flat along it" if not math.isfinite(se) or se > hi - lo else f"standard error {se:.2g}"
             warn(f"{p} = {v:.4g} is not identified by the data ({how}){extra}")
         shown.append(f"{p} = {v:.4g} +- {2 * se:.2g}" if identified else f"{p} = {v:.4g} (not identified)")
     if shown:
@@ -268,8 +274,7 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
     from intrusim.scenarios.locomotor import write_body
 
     warn = warn or (lambda text: say(f"warning: {text}"))
-    if job.workers > (os.cpu_count() or 1):
-        raise InputError(f"--workers {job.workers} is more than this machine's {os.cpu_count() or 1} cores")
+    check_workers(job.workers)
     names = job.fitted
     if not names and job.params.strip() != "none":
         raise InputError("--params names no parameter: give one or more, or 'none' to fit nothing")
@@ -311,6 +316,8 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
             )
         checks_in.append((label.strip(), path.strip()))
     check_writable(out)
+    if job.runs is not None:
+        check_writable(job.runs, "--runs")
     if job.mpm_push:
         say(
             f"DRFT is given the MPM runs' constant forward push, {start.external_fx:.3g} N on {start.name} (Table S1's 4 N "
@@ -361,7 +368,7 @@ def run_calibration(job: CalibrationJob, say: Say = print, warn: Optional[Say] =
     paths, check_cmps = write_calibration(out, stem, res, start, ref, checks, job.model, meta)
     paths.append(_write_model_file(out / f"{stem}.model.json", res, job.model, job.mpm_push, Path(mpm)))
     paths.append(
-        write_body(out / f"{stem}.body.json", load_scenario(job.scenario))
+        write_body(out / f"{stem}.body.json", load_scenario(job.scenario), start.external_fx)
     )  # the body as run, beside the results
     for label, c in check_cmps.items():
         rows = ", ".join(

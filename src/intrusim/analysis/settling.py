@@ -5,7 +5,10 @@ body (2 pi / |omega|: every lug has passed once), after the run's transient (ram
 
 * **settled** when the mean velocity and the mean sinkage each moved by less than ``tol`` (a
   fraction, 1 % by default) from the earlier window to the later one; the answer is then the later
-  window's means, with the change between the two windows as its settling uncertainty;
+  window's means, with the change between the two windows as its settling uncertainty. Given the
+  body's radius r, a change is relative to at least a tenth of r (sinkage) and of r |omega| (v),
+  so a body riding at the surface or nearly stopped is judged on a scale of its own size, not
+  on a mean near zero;
 * **buried** (entrapment) when the body's whole height is under the undisturbed surface in the
   later window, whatever else it does;
 * otherwise the outcome says what the body is still doing, most serious first: **sinking** (the
@@ -81,11 +84,12 @@ def settling(
     omega: float,
     t_start: float,
     tol: float = SETTLE_TOL,
-    height: float | None = None,
+    radius: float | None = None,
 ) -> Settling:
     """Judge a run from its samples ``t`` (s), ``velocity`` (m/s) and ``sinkage`` (m) after
     ``t_start`` (the end of its transient), the body turning at ``omega`` rad/s (module docstring);
-    ``height`` (m): the body's vertical extent, a sinkage beyond which it is buried (None: not judged)."""
+    ``radius`` (m): the body's outer radius: buried beyond a sinkage of 2 r, and the floor of the
+    changes' scales (None: neither)."""
     if not (math.isfinite(tol) and 0.0 < tol < 1.0):
         raise ValueError(f"tol must be a fraction in (0, 1), got {tol!r}")
     t, v, s = (np.asarray(a, float) for a in (t, velocity, sinkage))
@@ -99,12 +103,14 @@ def settling(
         return Settling("too short", text, w, t_end, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, tol)
     v1, v0 = float(v[later].mean()), float(v[earlier].mean())
     s1, s0 = float(s[later].mean()), float(s[earlier].mean())
-    dv = abs(v1 - v0) / max(abs(v1), 1e-12)
-    ds = abs(s1 - s0) / max(abs(s1), 1e-12)
+    floor_s = 0.1 * radius if radius is not None else 1e-12
+    floor_v = 0.1 * radius * abs(float(omega)) if radius is not None else 1e-12
+    dv = abs(v1 - v0) / max(abs(v1), floor_v)
+    ds = abs(s1 - s0) / max(abs(s1), floor_s)
     rate, accel = (s1 - s0) / w, (v1 - v0) / w
-    if height is not None and s1 >= height:
+    if radius is not None and s1 >= 2 * radius:  # the circle the turning body sweeps wholly under the surface
         outcome = "buried"
-        text = (f"buried: its top {(s1 - height) * 1e3:.3g} mm under the surface (entrapped), sinking at "
+        text = (f"buried: its top {(s1 - 2 * radius) * 1e3:.3g} mm under the surface (entrapped), sinking at "
                 f"{rate * 1e3:.3g} mm/s, v {v1:.3g} m/s")  # fmt: skip
     elif dv < tol and ds < tol:
         outcome = "settled"

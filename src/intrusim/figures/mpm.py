@@ -27,7 +27,7 @@ from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
 from intrusim.scenarios.mpm_locomotion import MPMLocomotion, body_settings  # noqa: E402
-from intrusim.scenarios.mpm_settings import apply_settings, read_record, settings_differences, write_record  # noqa: E402
+from intrusim.scenarios.mpm_settings import read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.
@@ -62,7 +62,7 @@ def check_figure_settings(figure: str, quick: bool, items: list[tuple[str, Any]]
 
     for name in FIGURE_SCENARIOS.get(figure, ("wheel",)):
         s = get_scenario(name)
-        apply_settings(body_settings(s, quick, echo=False), items)  # type: ignore[arg-type]
+        body_settings(s, quick, echo=False, items=items)  # type: ignore[arg-type]
 
 
 @contextmanager
@@ -111,8 +111,8 @@ def runs_root(runs: Path | None, quick: bool) -> Path:
 
 
 def mpm_case(scenario: LocomotorScenario, quick: bool, runs: Path | None) -> MPMLocomotion:
-    base = body_settings(scenario, quick, echo=False, preset=_PRESET[0])  # the commands say it once, before the runs
-    settings = apply_settings(base, _SETTINGS) if _SETTINGS else base
+    # the commands say what was grown once, before the runs
+    settings = body_settings(scenario, quick, echo=False, preset=_PRESET[0], items=_SETTINGS)
     return MPMLocomotion(scenario=scenario, mpm=settings, out_root=str(runs_root(runs, quick)))
 
 

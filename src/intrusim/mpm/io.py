@@ -112,7 +112,11 @@ def run_lock(run_dir: Path | None):
     run_dir.mkdir(parents=True, exist_ok=True)
     path = run_dir / LOCK
     while True:  # the lock file a releasing holder unlinks is not a lock: retry on the new one
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        except FileNotFoundError:  # a releasing holder removed the folder it had made: make it again
+            run_dir.mkdir(parents=True, exist_ok=True)
+            continue
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:

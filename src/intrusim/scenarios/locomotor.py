@@ -327,15 +327,20 @@ def effective_body(scenario: LocomotorScenario) -> dict[str, Any]:
     return out
 
 
-def write_body(path: str | Path, scenario: LocomotorScenario) -> Path:
+def write_body(path: str | Path, scenario: LocomotorScenario, external_fx_as_run: float | None = None) -> Path:
     """Write :func:`effective_body` of ``scenario`` as JSON to ``path`` (whole or not at all), beside
-    the results it made."""
+    the results it made; ``external_fx_as_run`` (N): the forward push the results were computed with,
+    where it is not the body's own (a model file's or calibrate's MPM push)."""
     import json
 
     from intrusim.mpm.io import atomic_write_bytes
 
     p = Path(path)
-    atomic_write_bytes(p, json.dumps(effective_body(scenario), indent=1).encode())
+    body = effective_body(scenario)
+    if external_fx_as_run is not None and external_fx_as_run != scenario.external_fx:
+        body["external_fx_as_run"] = external_fx_as_run
+        body["units"]["external_fx_as_run"] = "N"
+    atomic_write_bytes(p, json.dumps(body, indent=1).encode())
     return p
 
 

@@ -283,19 +283,34 @@ def reference_settings(scenario: LocomotorScenario) -> MPMSettings:
 
 
 def body_settings(
-    scenario: LocomotorScenario, quick: bool, echo: bool = True, preset: str | None = None
+    scenario: LocomotorScenario,
+    quick: bool,
+    echo: bool | Callable[[str], None] = True,
+    preset: str | None = None,
+    items: Any = (),
 ) -> MPMSettings:
-    """The base settings of ``scenario`` (:func:`base_settings` of its body at its ``mpm_scale``) with
-    the box grown, where needed, to hold this body (:func:`fit_box`); a body that fits (every
-    shipped one) gets the base unchanged. ``preset``: "paper" (the default), "quick" (as ``quick``)
-    or "reference" (:func:`reference_settings`). ``echo``: say on stderr what was grown."""
+    """The settings of ``scenario``'s runs: the base (``preset``: "paper", the default, :func:`base_settings`
+    of its body at its ``mpm_scale``; "quick", as ``quick``; "reference", :func:`reference_settings`),
+    then ``items`` ((key, value) pairs, :func:`~intrusim.scenarios.mpm_settings.apply_settings`),
+    then the box grown, where needed, to hold this body (:func:`fit_box`) in the dimensions the items
+    did not set. A body that fits (every shipped one) gets its settings unchanged. ``echo``: say on
+    stderr what was grown."""
+    from intrusim.scenarios.mpm_settings import apply_settings
+
     if preset is not None and preset not in PRESETS:
         raise InputError(f"--preset must be one of {', '.join(PRESETS)}, got {preset!r}")
+    if quick and preset not in (None, "quick"):
+        raise InputError(f"--quick and --preset {preset}: give one (--quick is --preset quick)")
     if preset == "reference":
-        if quick:
-            raise InputError("--quick and --preset reference: give one (--quick is --preset quick)")
-        return reference_settings(scenario)
-    return fit_box(base_settings(scenario.body, quick or preset == "quick", scenario.mpm_scale), scenario, echo)
+        base = reference_settings(scenario)
+    else:
+        base = base_settings(scenario.body, quick or preset == "quick", scenario.mpm_scale)
+    items = list(items)
+    given = {key.split(".", 1)[0] for key, _ in items}
+    s = apply_settings(base, items) if items else base
+    height = not ({"domain", "cells"} & given)  # a box set by hand is kept (and refused if too small)
+    start = not ({"domain", "cells", "length", "start_x"} & given)
+    return fit_box(s, scenario, echo, height=height, start=start)
 
 
 RESOLUTION_FRACTION = 5  # cells at most a fifth of the body's thinnest feature (docs/convergence.md)
@@ -331,33 +346,40 @@ def start_height(settings: MPMSettings, below: float) -> float:
     return s.bed_depth + below + (0.5 * s.h if s.start_depth == 0.0 else -s.start_depth)
 
 
-def fit_box(settings: MPMSettings, scenario: LocomotorScenario, echo: bool = True) -> MPMSettings:
+def fit_box(
+    settings: MPMSettings,
+    scenario: LocomotorScenario,
+    echo: bool | Callable[[str], None] = True,
+    height: bool = True,
+    start: bool = True,
+) -> MPMSettings:
     """``settings`` with the box grown in whole cells (the cell size kept) so that ``scenario``'s body
     fits: its centre at least its radius and a cell from the left wall (``start_x`` moved, the bed
-    lengthened by as much), and room for the body plus one radius of headroom above the bed
-    (the domain's height). A body that fits gets ``settings`` itself."""
+    lengthened by as much; unless ``start`` is False), and room for the body plus one radius of
+    headroom above the bed (the domain's height; unless ``height`` is False). A body that fits gets
+    ``settings`` itself. ``echo``: say what was grown on stderr (True) or to this callable."""
     s, (radius, below) = settings, _extent(scenario)
     h = s.h
     domain, cells, start_x = list(s.domain), list(s.cells), s.start_x
-    if start_x - radius < h:
+    if start and start_x - radius < h:
         shift = math.ceil((radius + 2 * h - start_x) / h - 1e-9) * h
         start_x += shift
         cells[0] += round(shift / h)
         domain[0] = cells[0] * h
     top = start_height(s, below) + radius
-    if top > s.domain[1] - h:
+    if height and top > s.domain[1] - h:
         cells[1] = math.ceil((top + max(radius, 2 * h)) / h - 1e-9)
         domain[1] = cells[1] * h
     if (tuple(domain), tuple(cells), start_x) == (s.domain, s.cells, s.start_x):
         return s
     out = s.validated_copy(domain=tuple(domain), cells=tuple(cells), start_x=start_x)
     if echo:
-        print(
+        text = (
             f"{scenario.name}: the MPM box grown to {domain[0]:.4g} x {domain[1]:.4g} m ({cells[0]} x {cells[1]} cells "
             f"of {h * 1e3:.3g} mm, start_x {start_x:.4g} m) to hold the body (radius {radius:.4g} m); "
-            "--set domain=[Lx, Lz] --set cell_size=H sets it by hand",
-            file=sys.stderr,
+            "--set domain=[Lx, Lz] --set cell_size=H sets it by hand"
         )
+        echo(text) if callable(echo) else print(text, file=sys.stderr)
     return out
 
 
@@ -439,7 +461,7 @@ def mpm_config(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: fl
             f"its radius plus a cell ({radius + s.h:.4g} m; --set start_x=...)"
         )
     if z0 + radius > s.domain[1] - s.h:
-        need = z0 + radius + s.h
+        need = math.ceil((z0 + radius + s.h) * 1e3) / 1e3  # mm, rounded up
         raise InputError(
             f"the body (radius {radius:.3g} m) does not fit under the box's top: its height {s.domain[1]:g} m must be at "
             f"least bed_depth + the body + a cell ({need:.4g} m; --set domain=[{s.domain[0]:g}, {need:.3g}] "
@@ -579,6 +601,24 @@ def check_run(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: flo
     return cfg
 
 
+def refuse_other_settings(run_dir: str | Path | None, settings: MPMSettings) -> None:
+    """Refuse (InputError) a run folder whose recorded settings (``locomotion.json``) differ from
+    ``settings`` in what they compute (the stop test, the window, the medium ...: settings the
+    solver's own configuration does not hold); how a run is computed (threads, arch) and a longer
+    t_max (the run is extended) are not differences."""
+    from intrusim.scenarios.mpm_settings import settings_differences
+
+    info = None if run_dir is None else Path(run_dir) / "locomotion.json"
+    if info is None or not info.is_file():
+        return
+    diff = settings_differences(json.loads(info.read_text()).get("settings") or {}, settings, longer_ok=True)
+    if diff:
+        shown = ", ".join(diff[:8]) + (f" and {len(diff) - 8} more" if len(diff) > 8 else "")
+        raise InputError(
+            f"{run_dir} holds a run of another configuration (differs in {shown}): give another --out, or remove that folder"
+        )
+
+
 def run_mpm_steady(
     scenario: LocomotorScenario,
     settings: MPMSettings,
@@ -654,7 +694,7 @@ def run_mpm_steady(
             return False
         t, z, th, vx = (np.array([r[k] for r in solver.rows], float) for k in ("time", "z", "theta", "vx"))
         sink = outline_sinkage(outline, z, th, s.bed_depth)
-        return settling(t, vx, sink, omega, t_avg, s.settle_tol).settled  # type: ignore[arg-type]
+        return settling(t, vx, sink, omega, t_avg, s.settle_tol, radius).settled  # type: ignore[arg-type]
 
     stop = "t_max"
     while solver.t < s.t_max - 0.5 * solver.dt and not near_wall():
@@ -735,8 +775,7 @@ def steady_from_series(
             f"at {t_avg:.3g} s: use a longer bed, a smaller start_x or a shorter settle_time"
         )
     omega = abs(float(series["omega"][-1]))
-    # buried: the circle the turning body sweeps wholly under the surface
-    judged = settling(t, series["vx"], series["sinkage"], omega, t_avg, settle_tol or SETTLE_TOL, 2.0 * radius)
+    judged = settling(t, series["vx"], series["sinkage"], omega, t_avg, settle_tol or SETTLE_TOL, radius)
     if settle_tol is not None and judged.settled:
         sel = t > judged.t_end - judged.window
     else:
@@ -879,6 +918,7 @@ class MPMLocomotion(Config):
         say = getattr(progress, "say", None) or (lambda text: None)
         out = self.run_dir(omega_rpm)
         with run_lock(out):  # one writer per run folder
+            refuse_other_settings(out, self.mpm)  # e.g. another stop test: the folder's answer is not this one's
             if out is not None and (out / "result.json").exists():  # finished before: reuse it, or extend it
                 from intrusim.mpm.io import refuse_other_run
 

@@ -202,21 +202,22 @@ def case_settings(
     quick: bool,
     settings_file: str | Path | None = None,
     sets: Iterable[str] = (),
-    echo: bool = True,
+    echo: Any = True,
     preset: str | None = None,
 ) -> Any:
     """The MPMSettings of a command: the quick or paper base of ``scenario``'s body (at its
     ``mpm_scale``, the box grown to hold the body: :func:`~intrusim.scenarios.mpm_locomotion.body_settings`),
-    then the settings file, then each ``key=value`` of ``sets`` in order. ``echo``: say on stderr
-    what was grown and warn of cells coarser than a fifth of the body's thinnest feature."""
+    then the settings file, then each ``key=value`` of ``sets`` in order. ``echo``: say what was grown
+    and warn of cells coarser than a fifth of the body's thinnest feature, on stderr (True) or to this
+    callable."""
     import sys
 
     from intrusim.scenarios.mpm_locomotion import body_settings, resolution_warning
 
-    s = apply_settings(body_settings(scenario, quick, echo, preset), settings_items(settings_file, sets))
+    s = body_settings(scenario, quick, echo, preset, settings_items(settings_file, sets))
     note = resolution_warning(scenario, s.h, quick or preset == "quick") if echo else None
     if note:
-        print(f"warning: {note}", file=sys.stderr)
+        echo(note) if callable(echo) else print(f"warning: {note}", file=sys.stderr)
     return s
 
 
