@@ -54,9 +54,13 @@ checkpoint_every = 0.01
 """
 
 
-def block_config(t_end: float = 0.02, z: float = 0.06, omega: float = -1.0) -> str:
+def block_config(
+    t_end: float = 0.02, z: float = 0.06, omega: float = -1.0, record_every: float = 0.0025,
+    checkpoint_every: float = 0.005, ramp_time: float = 0.0,
+) -> str:  # fmt: skip
     """An MPM run file of a 20 x 10 cell box half full of grains with a coupled 4 x 2 cm block, its
-    centre at height ``z`` (0.06 m: resting on the bed), spinning at ``omega``, ``t_end`` seconds long."""
+    centre at height ``z`` (0.06 m: resting on the bed), spinning at ``omega`` (reached over
+    ``ramp_time``), ``t_end`` seconds long, recorded and checkpointed every so often."""
     return f"""
 [domain]
 size = [0.2, 0.1]
@@ -66,8 +70,8 @@ rectangles = [{{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }}]
 [time]
 t_end = {t_end}
 [output]
-record_every = 0.0025
-checkpoint_every = 0.005
+record_every = {record_every}
+checkpoint_every = {checkpoint_every}
 [backend]
 cpu_threads = 1
 [[intruders]]
@@ -78,6 +82,7 @@ z = {z}
 [intruders.motion]
 kind = "coupled"
 omega = {omega}
+ramp_time = {ramp_time}
 mass_x = 1.0
 mass_z = 1.0
 """

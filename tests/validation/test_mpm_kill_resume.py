@@ -11,34 +11,11 @@ import time
 
 import numpy as np
 import pytest
+from cli_helpers import block_config
 
 from intrusim.mpm import io as mpm_io
 
-CONFIG = """
-[domain]
-size = [0.2, 0.1]
-cells = [20, 10]
-[bed]
-rectangles = [{ x0 = 0.0, z0 = 0.0, x1 = 0.2, z1 = 0.05 }]
-[time]
-t_end = 0.3
-[output]
-record_every = 0.005
-checkpoint_every = 0.01
-[backend]
-cpu_threads = 1
-[[intruders]]
-vertices = [[-0.02, -0.01], [0.02, -0.01], [0.02, 0.01], [-0.02, 0.01]]
-width = 0.1
-x = 0.1
-z = 0.065
-[intruders.motion]
-kind = "coupled"
-omega = -2.0
-ramp_time = 0.05
-mass_x = 1.0
-mass_z = 1.0
-"""
+CONFIG = block_config(t_end=0.3, z=0.065, omega=-2.0, record_every=0.005, checkpoint_every=0.01, ramp_time=0.05)
 
 
 def _cli(*args):
