@@ -4,8 +4,8 @@ import pytest
 
 from intrusim._checks import InputError
 from intrusim.scenarios import get_scenario, load_scenario
-from intrusim.scenarios.mpm_locomotion import base_settings, body_settings, mpm_config
-from intrusim.scenarios.mpm_settings import case_settings
+from intrusim.scenarios.mpm_locomotion import base_settings, mpm_config
+from intrusim.scenarios.mpm_settings import body_settings, case_settings
 
 SHIPPED = ["wheel", "small-wheel", "runner", "wheel-10-grousers", "wheel-30-grousers", "wheel-tall-grousers"]
 

@@ -26,8 +26,8 @@ from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
-from intrusim.scenarios.mpm_locomotion import MPMLocomotion, body_settings  # noqa: E402
-from intrusim.scenarios.mpm_settings import read_record, settings_differences, write_record  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion  # noqa: E402
+from intrusim.scenarios.mpm_settings import body_settings, read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
 # span the linear range (10-30 RPM) and the plateau; a 10 RPM grid is `intrusim mpm sweep`.

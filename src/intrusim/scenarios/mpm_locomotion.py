@@ -282,37 +282,6 @@ def reference_settings(scenario: LocomotorScenario) -> MPMSettings:
     return fit_box(out, scenario, echo=False)
 
 
-def body_settings(
-    scenario: LocomotorScenario,
-    quick: bool,
-    echo: bool | Callable[[str], None] = True,
-    preset: str | None = None,
-    items: Any = (),
-) -> MPMSettings:
-    """The settings of ``scenario``'s runs: the base (``preset``: "paper", the default, :func:`base_settings`
-    of its body at its ``mpm_scale``; "quick", as ``quick``; "reference", :func:`reference_settings`),
-    then ``items`` ((key, value) pairs, :func:`~intrusim.scenarios.mpm_settings.apply_settings`),
-    then the box grown, where needed, to hold this body (:func:`fit_box`) in the dimensions the items
-    did not set. A body that fits (every shipped one) gets its settings unchanged. ``echo``: say on
-    stderr what was grown."""
-    from intrusim.scenarios.mpm_settings import apply_settings
-
-    if preset is not None and preset not in PRESETS:
-        raise InputError(f"--preset must be one of {', '.join(PRESETS)}, got {preset!r}")
-    if quick and preset not in (None, "quick"):
-        raise InputError(f"--quick and --preset {preset}: give one (--quick is --preset quick)")
-    if preset == "reference":
-        base = reference_settings(scenario)
-    else:
-        base = base_settings(scenario.body, quick or preset == "quick", scenario.mpm_scale)
-    items = list(items)
-    given = {key.split(".", 1)[0] for key, _ in items}
-    s = apply_settings(base, items) if items else base
-    height = not ({"domain", "cells"} & given)  # a box set by hand is kept (and refused if too small)
-    start = not ({"domain", "cells", "length", "start_x"} & given)
-    return fit_box(s, scenario, echo, height=height, start=start)
-
-
 RESOLUTION_FRACTION = 5  # cells at most a fifth of the body's thinnest feature (docs/convergence.md)
 
 
@@ -601,17 +570,49 @@ def check_run(scenario: LocomotorScenario, settings: MPMSettings, omega_rpm: flo
     return cfg
 
 
+# settings that choose how a run is computed or saved, not what it computes: a recorded run that
+# differs from the case asked for only in these is the same case
+# (frames_every is not one: it sets the chunks a run advances by, so when the rear drop is sampled,
+# the treadmill shifts and the stop tests)
+RUN_CONTROL = frozenset({"cpu_threads", "arch", "keep_fields", "max_steps"})
+
+
+def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
+    if isinstance(data, dict):
+        out: dict[str, Any] = {}
+        for k, v in data.items():
+            out.update(_flat(v, f"{prefix}{k}."))
+        return out if out or not prefix else {prefix[:-1]: {}}
+    return {prefix[:-1]: data}
+
+
+def settings_differences(recorded: dict[str, Any], wanted: Any, longer_ok: bool = False) -> list[str]:
+    """Keys at which recorded settings (a dict, read as MPMSettings: a setting added since is its
+    default) differ from ``wanted`` (an MPMSettings); :data:`RUN_CONTROL` keys are not differences,
+    nor, with ``longer_ok``, a recorded t_max shorter than the wanted one (the run is extended)."""
+    try:
+        recorded = MPMSettings.model_validate(recorded).model_dump(mode="json")
+    except ValueError:
+        pass  # not settings of this version: compared as written
+    a, b = _flat(recorded), _flat(wanted.model_dump(mode="json"))
+    diff = [k for k in sorted(set(a) | set(b)) if k.split(".")[0] not in RUN_CONTROL and a.get(k) != b.get(k)]
+    if longer_ok and "t_max" in diff and isinstance(a.get("t_max"), (int, float)) and a["t_max"] < b["t_max"]:
+        diff.remove("t_max")
+    return diff
+
+
 def refuse_other_settings(run_dir: str | Path | None, settings: MPMSettings) -> None:
     """Refuse (InputError) a run folder whose recorded settings (``locomotion.json``) differ from
     ``settings`` in what they compute (the stop test, the window, the medium ...: settings the
     solver's own configuration does not hold); how a run is computed (threads, arch) and a longer
     t_max (the run is extended) are not differences."""
-    from intrusim.scenarios.mpm_settings import settings_differences
-
     info = None if run_dir is None else Path(run_dir) / "locomotion.json"
     if info is None or not info.is_file():
         return
-    diff = settings_differences(json.loads(info.read_text()).get("settings") or {}, settings, longer_ok=True)
+    # t_max is left to the solver's own check: a longer one extends the run, a shorter one is refused there
+    diff = [
+        k for k in settings_differences(json.loads(info.read_text()).get("settings") or {}, settings) if k != "t_max"
+    ]
     if diff:
         shown = ", ".join(diff[:8]) + (f" and {len(diff) - 8} more" if len(diff) > 8 else "")
         raise InputError(

@@ -23,6 +23,7 @@ from typing import Any, Iterable
 
 from intrusim._checks import InputError
 from intrusim.errors import validation_message
+from intrusim.scenarios.mpm_locomotion import RUN_CONTROL, _flat, settings_differences  # noqa: F401 - re-exported
 
 # derived keys: a convenience that sets one or more MPMSettings fields
 DERIVED: dict[str, str] = {
@@ -32,12 +33,6 @@ DERIVED: dict[str, str] = {
     "mu_i_diameter": "grain diameter, m: mu_i = {grain_diameter = this} (friction mu(I), not the paper's law)",
     "fluidity_diameter": "grain diameter, m: fluidity = {grain_diameter = this} (nonlocal fluidity, not the paper's law)",
 }
-
-# settings that choose how a run is computed or saved, not what it computes: a recorded run that
-# differs from the case asked for only in these is the same case
-# (frames_every is not one: it sets the chunks a run advances by, so when the rear drop is sampled,
-# the treadmill shifts and the stop tests)
-RUN_CONTROL = frozenset({"cpu_threads", "arch", "keep_fields", "max_steps"})
 
 
 def settings_keys() -> list[str]:
@@ -197,6 +192,37 @@ def settings_items(settings_file: str | Path | None = None, sets: Iterable[str] 
     return items + [parse_assignment(s) for s in sets]
 
 
+def body_settings(
+    scenario: Any,
+    quick: bool,
+    echo: Any = True,
+    preset: str | None = None,
+    items: Any = (),
+) -> Any:
+    """The settings of ``scenario``'s runs: the base (``preset``: "paper", the default, :func:`~intrusim.scenarios.mpm_locomotion.base_settings`
+    of its body at its ``mpm_scale``; "quick", as ``quick``; "reference", :func:`~intrusim.scenarios.mpm_locomotion.reference_settings`),
+    then ``items`` ((key, value) pairs, :func:`~intrusim.scenarios.mpm_settings.apply_settings`),
+    then the box grown, where needed, to hold this body (:func:`~intrusim.scenarios.mpm_locomotion.fit_box`) in the dimensions the items
+    did not set. A body that fits (every shipped one) gets its settings unchanged. ``echo``: say on
+    stderr what was grown."""
+    from intrusim.scenarios.mpm_locomotion import PRESETS, base_settings, fit_box, reference_settings
+
+    if preset is not None and preset not in PRESETS:
+        raise InputError(f"--preset must be one of {', '.join(PRESETS)}, got {preset!r}")
+    if quick and preset not in (None, "quick"):
+        raise InputError(f"--quick and --preset {preset}: give one (--quick is --preset quick)")
+    if preset == "reference":
+        base = reference_settings(scenario)
+    else:
+        base = base_settings(scenario.body, quick or preset == "quick", scenario.mpm_scale)
+    items = list(items)
+    given = {key.split(".", 1)[0] for key, _ in items}
+    s = apply_settings(base, items) if items else base
+    height = not ({"domain", "cells"} & given)  # a box set by hand is kept (and refused if too small)
+    start = not ({"domain", "cells", "length", "start_x"} & given)
+    return fit_box(s, scenario, echo, height=height, start=start)
+
+
 def case_settings(
     scenario: Any,
     quick: bool,
@@ -212,7 +238,7 @@ def case_settings(
     callable."""
     import sys
 
-    from intrusim.scenarios.mpm_locomotion import body_settings, resolution_warning
+    from intrusim.scenarios.mpm_locomotion import resolution_warning
 
     s = body_settings(scenario, quick, echo, preset, settings_items(settings_file, sets))
     note = resolution_warning(scenario, s.h, quick or preset == "quick") if echo else None
@@ -246,29 +272,3 @@ def read_record(csv_path: str | Path) -> dict[float, dict[str, Any]] | None:
     if not path.is_file():
         return None
     return {float(w): s for w, s in json.loads(path.read_text())["settings"].items()}
-
-
-def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
-    if isinstance(data, dict):
-        out: dict[str, Any] = {}
-        for k, v in data.items():
-            out.update(_flat(v, f"{prefix}{k}."))
-        return out if out or not prefix else {prefix[:-1]: {}}
-    return {prefix[:-1]: data}
-
-
-def settings_differences(recorded: dict[str, Any], wanted: Any, longer_ok: bool = False) -> list[str]:
-    """Keys at which recorded settings (a dict, read as MPMSettings: a setting added since is its
-    default) differ from ``wanted`` (an MPMSettings); :data:`RUN_CONTROL` keys are not differences,
-    nor, with ``longer_ok``, a recorded t_max shorter than the wanted one (the run is extended)."""
-    from intrusim.scenarios.mpm_locomotion import MPMSettings
-
-    try:
-        recorded = MPMSettings.model_validate(recorded).model_dump(mode="json")
-    except ValueError:
-        pass  # not settings of this version: compared as written
-    a, b = _flat(recorded), _flat(wanted.model_dump(mode="json"))
-    diff = [k for k in sorted(set(a) | set(b)) if k.split(".")[0] not in RUN_CONTROL and a.get(k) != b.get(k)]
-    if longer_ok and "t_max" in diff and isinstance(a.get("t_max"), (int, float)) and a["t_max"] < b["t_max"]:
-        diff.remove("t_max")
-    return diff
