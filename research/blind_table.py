@@ -16,16 +16,16 @@ The four runs (from the reference set, ``intrusim mpm references``; about 15 min
     R=runs/references; CHECKS="--check small-wheel=$R/small-wheel_mpm.csv --check wheel-10-grousers=$R/wheel-10-grousers_mpm.csv \\
         --check wheel-30-grousers=$R/wheel-30-grousers_mpm.csv --check wheel-tall-grousers=$R/wheel-tall-grousers_mpm.csv \\
         --check runner=$R/runner_mpm.csv"
-    intrusim calibrate wheel --mpm $R/wheel_mpm.csv --params none --structural wheel-rear-half --name blind_paper $CHECKS --out docs/figures
+    intrusim calibrate wheel --mpm $R/wheel_mpm.csv --params none --structural wheel-rear-half --name blind_paper $CHECKS --out research/outputs/figures
     intrusim calibrate wheel --mpm $R/wheel_mpm.csv --params xi,psi,psi_offset,zone_width --fix lam=2.6 \\
-        --structural wheel-rear-half-circle --starts 8 --leave-one-out --name blind $CHECKS --out docs/figures
+        --structural wheel-rear-half-circle --starts 8 --leave-one-out --name blind $CHECKS --out research/outputs/figures
     intrusim calibrate wheel --mpm $R/wheel_mpm.csv --params xi --fix lam=2.6 --fix psi=0.727 --fix psi_offset=0.431 \\
-        --structural wheel-rear-half-circle --starts 4 --leave-one-out --name blind_xi $CHECKS --out docs/figures
+        --structural wheel-rear-half-circle --starts 4 --leave-one-out --name blind_xi $CHECKS --out research/outputs/figures
     intrusim calibrate wheel --mpm $R/wheel_mpm.csv --params none --fix lam=2.6 --fix psi=0.727 --fix psi_offset=0.431 \\
         --rft-coefficients docs/figures/rft_map_reference.json --structural wheel-rear-half-circle \\
-        --name blind_measured $CHECKS --out docs/figures
+        --name blind_measured $CHECKS --out research/outputs/figures
 
-    python research/blind_table.py docs/figures --write docs/results.md
+    python research/blind_table.py research/outputs/figures --png docs/figures --write docs/results.md
 """
 
 from __future__ import annotations
@@ -138,11 +138,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("folder", type=Path, help="the folder of the four runs' NAME.json and NAME.csv")
     ap.add_argument("--write", type=Path, default=None, help="markdown file whose blind_table block is replaced")
+    ap.add_argument("--png", type=Path, default=None, help="folder of the per-body figures (default: the runs' folder)")
     a = ap.parse_args()
     lines, summary = table(a.folder)
     print("\n".join(lines))
     print(json.dumps(summary, indent=1))
-    for p in figures(a.folder, a.folder):
+    if a.png is not None:
+        a.png.mkdir(parents=True, exist_ok=True)
+    for p in figures(a.folder, a.png or a.folder):
         print(p)
     if a.write is not None:
         a.write.write_text(replace_between(a.write.read_text(), "blind_table", ["", *lines, ""], str(a.write)))

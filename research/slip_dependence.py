@@ -8,7 +8,7 @@ v_s = r omega - v, and the sinkage against the slip s = v_s / (r omega).
 
     python research/slip_dependence.py \
         --sweep docs/figures/mpm_band0_settled/grousered_wheel_mpm_sweep.csv \
-        --sweep docs/figures/mpm_small_1p25mm/small_grousered_wheel_mpm_sweep.csv \
+        --sweep research/outputs/figures/mpm_small_1p25mm/small_grousered_wheel_mpm_sweep.csv \
         --variants research/outputs/wheel_load.csv --variants research/outputs/wheel_lugs.csv \
         --variants research/outputs/wheel_push.csv --out research/outputs/slip_dependence
 

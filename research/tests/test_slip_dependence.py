@@ -85,7 +85,7 @@ def test_sinkage_over_radius_is_close_to_one_function_of_slip_for_every_series(s
     """Omega (both wheel sizes), load, grouser count and push: one quadratic in the slip within 15 %."""
     sweeps = [
         FIG / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv",
-        FIG / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv",
+        ROOT / "research" / "outputs" / "figures" / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv",
     ]
     rows, _ = script.analyse(sweeps, VARIANTS)
     assert len(rows) == 19 and len({r["radius"] for r in rows}) == 2

@@ -287,7 +287,10 @@ def _renamed_figure(make: Any, stem: str, name: str, out: Path, **kwargs: Any) -
 
 @app.command()
 def status(
-    figures: Path = typer.Option(Path("docs/figures"), help="Folder of the figures' CSVs (NAME_vs_mpm.csv)."),
+    figures: Path = typer.Option(
+        Path("research/outputs/figures"),
+        help="Folder of the figures' CSVs (NAME_vs_mpm.csv; the committed ones by default).",
+    ),
     write: Optional[Path] = typer.Option(
         None, help="Markdown file whose status block (<!-- status table: begin/end -->) is replaced by the table."
     ),

@@ -20,7 +20,9 @@ from intrusim.scenarios import grousered_wheel_scenario, small_wheel_scenario
 
 FIGURES = Path(__file__).resolve().parents[2] / "docs" / "figures"
 WHEEL = FIGURES / "mpm_band0_settled" / "grousered_wheel_mpm_sweep.csv"
-SMALL = FIGURES / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv"
+SMALL = (
+    FIGURES.parents[1] / "research" / "outputs" / "figures" / "mpm_small_1p25mm" / "small_grousered_wheel_mpm_sweep.csv"
+)
 
 
 def _paper_drft(scenario):
