@@ -26,7 +26,7 @@ from intrusim.figures._output import save_figure, write_curves  # noqa: E402
 from intrusim.geometry import posed_polygon  # noqa: E402
 from intrusim.params import RPM  # noqa: E402
 from intrusim.scenarios import LocomotorScenario  # noqa: E402
-from intrusim.scenarios.mpm_locomotion import MPMLocomotion  # noqa: E402
+from intrusim.scenarios.mpm_locomotion import MPMLocomotion, recorded_differences  # noqa: E402
 from intrusim.scenarios.mpm_settings import body_settings, read_record, settings_differences, write_record  # noqa: E402
 
 # Full resolution costs ~5 min (90 RPM) to ~20 min (10 RPM) of one core per wheel point: 6 points
@@ -128,10 +128,7 @@ def check_run_folder(case: MPMLocomotion, omega_rpm: float) -> None:
     """Refuse (InputError) the run folder of ``omega_rpm`` if its recorded settings
     (locomotion.json) differ from the case's (a shorter t_max is not a difference: the run is extended)."""
     run_dir = case.run_dir(omega_rpm)
-    info = None if run_dir is None else run_dir / "locomotion.json"
-    if info is None or not info.is_file():
-        return
-    diff = settings_differences(json.loads(info.read_text()).get("settings") or {}, case.mpm, longer_ok=True)
+    diff = recorded_differences(run_dir, case.mpm)
     if diff:
         _refuse(run_dir, diff)
 

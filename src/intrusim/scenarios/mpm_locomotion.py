@@ -601,18 +601,22 @@ def settings_differences(recorded: dict[str, Any], wanted: Any, longer_ok: bool 
     return diff
 
 
+def recorded_differences(run_dir: str | Path | None, settings: MPMSettings, longer_ok: bool = True) -> list[str]:
+    """The keys at which a run folder's recorded settings (``locomotion.json``) differ from ``settings``
+    (:func:`settings_differences`); none for a folder without a record."""
+    info = None if run_dir is None else Path(run_dir) / "locomotion.json"
+    if info is None or not info.is_file():
+        return []
+    return settings_differences(json.loads(info.read_text()).get("settings") or {}, settings, longer_ok=longer_ok)
+
+
 def refuse_other_settings(run_dir: str | Path | None, settings: MPMSettings) -> None:
     """Refuse (InputError) a run folder whose recorded settings (``locomotion.json``) differ from
     ``settings`` in what they compute (the stop test, the window, the medium ...: settings the
     solver's own configuration does not hold); how a run is computed (threads, arch) and a longer
     t_max (the run is extended) are not differences."""
-    info = None if run_dir is None else Path(run_dir) / "locomotion.json"
-    if info is None or not info.is_file():
-        return
     # t_max is left to the solver's own check: a longer one extends the run, a shorter one is refused there
-    diff = [
-        k for k in settings_differences(json.loads(info.read_text()).get("settings") or {}, settings) if k != "t_max"
-    ]
+    diff = [k for k in recorded_differences(run_dir, settings, longer_ok=False) if k != "t_max"]
     if diff:
         shown = ", ".join(diff[:8]) + (f" and {len(diff) - 8} more" if len(diff) > 8 else "")
         raise InputError(
