@@ -187,6 +187,7 @@ def sweep(
     import os
 
     from intrusim.analysis.sweep import omega_list, sweep_omega
+    from intrusim.figures.mpm import run_count
     from intrusim.mpm.io import safe_child
     from intrusim.scenarios.locomotor import write_body
     from intrusim.scenarios.mpm_locomotion import check_run
@@ -204,7 +205,7 @@ def sweep(
                 f"--workers {workers} is more than this machine's {cores} cores "
                 "(--oversubscribe to run them anyway, or --scheduler for a bigger cluster)"
             )
-        at_once = min(workers, len(omegas))  # a local cluster of more workers than points: idle cores
+        at_once = run_count(workers, not serial, len(omegas))  # no more workers than points: idle cores
         serial = serial or (at_once == 1 and scheduler is None)  # one at a time: in this process
         threads = max(1, cores // at_once) if not serial else None
         case = _case(scenario, quick, out, settings, sets, threads, preset)
